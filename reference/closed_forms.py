@@ -8,11 +8,11 @@ from scipy.special import beta
 
 #: Dimensionless Hertz collision time, tau_e = T_e V / delta_e = (4/5) B(2/5, 1/2) = 2.94327518432470...
 #: It is the time x(tau) of the elastic ODE ``x'' + (5/4) x^{3/2} = 0`` spends at x > 0 when x'(0) = 1.
-HERTZ_TAU = 0.8 * beta(0.4, 0.5)
+HERTZ_TAU = float(0.8 * beta(0.4, 0.5))
 
 #: I1 = (2/5) B(3/5, 3/2) = 0.50445489...; the first-order coefficients in K are
 #: eps_1 = -2 I1, A_1 = -(4/5) I1, T_1 = I1 / 5.
-FIRST_ORDER_INTEGRAL = 0.4 * beta(0.6, 1.5)
+FIRST_ORDER_INTEGRAL = float(0.4 * beta(0.6, 1.5))
 
 #: alpha = 2 (15/16)^{3/5} = 1.924034...: K = alpha (eta^5 V R* / (M*^2 E*^3))^{1/5}.
 K_PREFACTOR = 2.0 * (15.0 / 16.0) ** 0.6

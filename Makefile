@@ -1,0 +1,41 @@
+# The two set-up commands of the README:
+#   make study   installs the engines (Debian packages) and the Python venv, runs the study
+#   make test    installs the same, runs the tests
+# Both work as root and, otherwise, through sudo (only apt-get needs it).
+SHELL := /bin/bash
+VENV := .venv
+PY := $(VENV)/bin/python
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+DEBIAN_PACKAGES := liggghts yade python3-venv python3-pip
+JOBS ?= 2
+
+.PHONY: study test bench engines venv clean
+
+study: engines venv
+	$(VENV)/bin/snakemake -j$(JOBS) all
+
+test: engines venv
+	$(PY) -m pytest
+
+bench: venv
+	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
+
+# The DEM engines come from Debian's packages; skip apt when they are already there.
+engines:
+	@if command -v liggghts >/dev/null && command -v yade >/dev/null && python3 -c 'import venv, ensurepip' 2>/dev/null; then \
+	  echo "engines: liggghts and yade are installed"; \
+	else \
+	  $(SUDO) apt-get update && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $(DEBIAN_PACKAGES); \
+	fi
+
+venv: $(VENV)/.installed
+
+$(VENV)/.installed: pyproject.toml
+	python3 -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[test]'
+	touch $@
+
+clean:
+	rm -rf results .snakemake

@@ -1,0 +1,8 @@
+"""From a material to the contact model and on to each engine's parameters (SI units inside)."""
+
+from .case_file import Case, CaseError, load_case, parse_case
+from .contact_pair import GEOMETRIES, Body, ContactPair
+from .effective import effective_mass, effective_modulus, effective_radius, sphere_mass
+
+__all__ = ["Case", "CaseError", "load_case", "parse_case", "GEOMETRIES", "Body", "ContactPair",
+           "effective_mass", "effective_modulus", "effective_radius", "sphere_mass"]

@@ -1,0 +1,62 @@
+"""Hertz scales and the dissipation parameter K of a viscoelastic contact (SI units).
+
+With effective modulus E* [Pa], radius R* [m], mass M* [kg], viscosity eta [Pa s] and impact
+velocity V [m/s] (the paper's eqs. 1 and 3):
+
+    delta_e = (15 M* V^2 / (16 E* sqrt(R*)))^{2/5}     maximum Hertz overlap       [m]
+    A_e     = pi R* delta_e                             maximum Hertz contact area  [m^2]
+    T_e     = tau_e delta_e / V                         Hertz collision time        [s]
+    F_e     = (5/4) M* V^2 / delta_e                    maximum Hertz force         [N]
+    K       = 2 eta sqrt(R*) delta_e^{3/2} / (M* V) = alpha (eta^5 V R* / (M*^2 E*^3))^{1/5}
+    V_D     = M*^2 E*^3 / (R* eta^5)                    viscous velocity            [m/s]
+
+so that K = alpha (V / V_D)^{1/5} and the velocity giving a target K is V = V_D (K/alpha)^5.
+"""
+
+from __future__ import annotations
+
+import math
+
+from reference.closed_forms import HERTZ_TAU, K_PREFACTOR
+
+
+def hertz_overlap(E: float, R: float, M: float, V: float) -> float:
+    """delta_e = (15 M V^2 / (16 E sqrt(R)))^{2/5}   [m]."""
+    return (15.0 * M * V**2 / (16.0 * E * math.sqrt(R))) ** 0.4
+
+
+def hertz_area(E: float, R: float, M: float, V: float) -> float:
+    """A_e = pi R delta_e = pi (15 M V^2 R^2 / (16 E))^{2/5}   [m^2]."""
+    return math.pi * R * hertz_overlap(E, R, M, V)
+
+
+def hertz_time(E: float, R: float, M: float, V: float) -> float:
+    """T_e = tau_e delta_e / V = 2.8683 (M^2 / (R V E^2))^{1/5}   [s]."""
+    return float(HERTZ_TAU) * hertz_overlap(E, R, M, V) / V
+
+
+def hertz_force(E: float, R: float, M: float, V: float) -> float:
+    """F_e = (4/3) E sqrt(R) delta_e^{3/2} = (5/4) M V^2 / delta_e   [N]."""
+    return 1.25 * M * V**2 / hertz_overlap(E, R, M, V)
+
+
+def viscous_velocity(E: float, R: float, M: float, eta: float) -> float:
+    """V_D = M^2 E^3 / (R eta^5)   [m/s]."""
+    return M**2 * E**3 / (R * eta**5)
+
+
+def dissipation_parameter(E: float, R: float, M: float, eta: float, V: float) -> float:
+    """K = 2 eta sqrt(R) delta_e^{3/2} / (M V)   [-]."""
+    return 2.0 * eta * math.sqrt(R) * hertz_overlap(E, R, M, V) ** 1.5 / (M * V)
+
+
+def velocity_for_dissipation(E: float, R: float, M: float, eta: float, K: float) -> float:
+    """The impact velocity that gives K: V = V_D (K / alpha)^5   [m/s]."""
+    if not K > 0:
+        raise ValueError(f"K must be positive to define an impact velocity, got {K}")
+    return viscous_velocity(E, R, M, eta) * (K / K_PREFACTOR) ** 5
+
+
+def viscosity_for_dissipation(E: float, R: float, M: float, V: float, K: float) -> float:
+    """The viscosity that gives K at velocity V: eta = K M V / (2 sqrt(R) delta_e^{3/2})   [Pa s]."""
+    return K * M * V / (2.0 * math.sqrt(R) * hertz_overlap(E, R, M, V) ** 1.5)

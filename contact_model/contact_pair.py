@@ -1,0 +1,110 @@
+"""A two-body contact (sphere-sphere or sphere-plane) and the numbers the study derives from it.
+
+Everything is SI. A plane is a `Body` with infinite radius and density; a rigid body has
+infinite Young's modulus.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from . import collision_scales as cs
+from .effective import effective_mass, effective_modulus, effective_radius, sphere_mass
+from .engine_parameters import ENGINE_PARAMETERS
+
+GEOMETRIES = ("sphere-sphere", "sphere-plane")
+
+
+@dataclass(frozen=True)
+class Body:
+    """A sphere (finite radius) or a plane (radius = density = inf). SI units.
+
+    young/poisson may be None where the case gives the pair's effective modulus directly.
+    """
+
+    radius: float
+    density: float
+    young: float | None = None
+    poisson: float | None = None
+
+    @property
+    def is_plane(self) -> bool:
+        return math.isinf(self.radius)
+
+    @property
+    def mass(self) -> float:
+        return math.inf if self.is_plane else sphere_mass(self.radius, self.density)
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    """Two bodies in head-on contact with the viscoelastic Hertz law.
+
+    Attributes: geometry ('sphere-sphere' or 'sphere-plane'), body_1 (always a sphere),
+    body_2, E (effective modulus E* [Pa]) and eta (effective viscosity [Pa s]).
+    """
+
+    geometry: str
+    body_1: Body
+    body_2: Body
+    E: float
+    eta: float
+
+    @classmethod
+    def from_bodies(cls, body_1: Body, body_2: Body, eta: float) -> "ContactPair":
+        """E* from the bodies' Young's moduli and Poisson ratios."""
+        E = effective_modulus(body_1.young, body_1.poisson, body_2.young, body_2.poisson)
+        geometry = "sphere-plane" if body_2.is_plane else "sphere-sphere"
+        return cls(geometry, body_1, body_2, E, eta)
+
+    @property
+    def R(self) -> float:
+        """Effective radius R* [m]."""
+        return effective_radius(self.body_1.radius, self.body_2.radius)
+
+    @property
+    def M(self) -> float:
+        """Effective mass M* [kg]."""
+        return effective_mass(self.body_1.mass, self.body_2.mass)
+
+    @property
+    def viscous_velocity(self) -> float:
+        """V_D = M*^2 E*^3 / (R* eta^5) [m/s]."""
+        return cs.viscous_velocity(self.E, self.R, self.M, self.eta)
+
+    def dissipation_parameter(self, V: float) -> float:
+        """K at impact velocity V [m/s]."""
+        return cs.dissipation_parameter(self.E, self.R, self.M, self.eta, V)
+
+    def velocity_for_dissipation(self, K: float) -> float:
+        """Impact velocity [m/s] that gives K."""
+        return cs.velocity_for_dissipation(self.E, self.R, self.M, self.eta, K)
+
+    def scales(self, V: float) -> dict[str, float]:
+        """Hertz scales and K at impact velocity V, SI: delta_e, A_e, T_e, F_e, K, V_D."""
+        E, R, M = self.E, self.R, self.M
+        return {
+            "V": V,
+            "delta_e": cs.hertz_overlap(E, R, M, V),
+            "A_e": cs.hertz_area(E, R, M, V),
+            "T_e": cs.hertz_time(E, R, M, V),
+            "F_e": cs.hertz_force(E, R, M, V),
+            "K": self.dissipation_parameter(V),
+            "V_D": self.viscous_velocity,
+        }
+
+    def critical_velocity(self, beta: float, criterion: str = "x0") -> float:
+        """V_c(beta): the impact velocity below which phi_1 and phi_2 stay under beta [m/s],
+        with the critical K from the reference solver (`reference.critical.critical_dissipation`)."""
+        from reference.critical import critical_dissipation
+
+        return self.velocity_for_dissipation(critical_dissipation(beta, criterion))
+
+    def engine_parameters(self, engine: str) -> dict[str, float]:
+        """The engine's contact parameters for this pair (see `engine_parameters`)."""
+        try:
+            mapping = ENGINE_PARAMETERS[engine]
+        except KeyError:
+            raise ValueError(f"unknown engine {engine!r}; known: {sorted(ENGINE_PARAMETERS)}")
+        return mapping(self.E, self.R, self.M, self.eta)

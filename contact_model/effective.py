@@ -1,0 +1,30 @@
+"""Effective quantities of a two-body contact (SI units throughout).
+
+A plane is a body of infinite radius and mass; a rigid body has 1/Y = 0. Both are written
+as ``math.inf`` so that the same formulas hold for sphere-sphere and sphere-plane contacts.
+"""
+
+from __future__ import annotations
+
+import math
+
+
+def effective_modulus(young_1: float, poisson_1: float, young_2: float, poisson_2: float) -> float:
+    """E* = 1 / [(1 - nu1^2)/Y1 + (1 - nu2^2)/Y2]   [Pa]. A rigid body has Y = inf."""
+    compliance = (1.0 - poisson_1**2) / young_1 + (1.0 - poisson_2**2) / young_2
+    return 1.0 / compliance
+
+
+def effective_radius(radius_1: float, radius_2: float = math.inf) -> float:
+    """R* = R1 R2 / (R1 + R2)   [m]; R2 = inf (a plane) gives R* = R1."""
+    return 1.0 / (1.0 / radius_1 + 1.0 / radius_2)
+
+
+def effective_mass(mass_1: float, mass_2: float = math.inf) -> float:
+    """M* = m1 m2 / (m1 + m2)   [kg]; m2 = inf (a plane) gives M* = m1."""
+    return 1.0 / (1.0 / mass_1 + 1.0 / mass_2)
+
+
+def sphere_mass(radius: float, density: float) -> float:
+    """m = (4/3) pi R^3 rho   [kg]."""
+    return 4.0 / 3.0 * math.pi * radius**3 * density

@@ -1,0 +1,1 @@
+"""Engine dumps -> T, A, eps -> comparison with the reference -> report."""

@@ -1,0 +1,37 @@
+"""The critical dissipation K_c(beta): the K at which phi_1 or phi_2 first reaches beta.
+
+phi_i = |Q_i - Q_ie| / Q_ie (the paper's relative deviations of Q1 = A^{1/2} T^2 and
+Q2 = A / (sqrt(V V') T)). The paper reads K_c ~ 2.5 beta^{1/2} off its Fig. 1; here it is the
+first root of max(phi_1, phi_2) = beta on the reference solution.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .collision_ode import solve_collisions
+from .series import hertz_ratios
+
+#: The paper's rule K_c = 2.5 beta^{1/2} (text below eq. 7).
+PAPER_RULE_PREFACTOR = 2.5
+
+
+def largest_deviation(K, criterion: str = "x0") -> np.ndarray:
+    """max(phi_1, phi_2) at each K."""
+    r = hertz_ratios(solve_collisions(K), criterion)
+    return np.maximum(np.abs(r["Q1/Q1e"] - 1.0), np.abs(r["Q2/Q2e"] - 1.0))
+
+
+def critical_dissipation(beta: float, criterion: str = "x0", K_max: float = 10.0) -> float:
+    """Smallest K with max(phi_1, phi_2) = beta (relative accuracy ~1e-12)."""
+    if not 0 < beta < 1:
+        raise ValueError(f"beta must lie in (0, 1), got {beta}")
+    grid = np.linspace(0.0, K_max, 401)
+    dev = largest_deviation(grid, criterion)
+    above = np.nonzero(dev >= beta)[0]
+    if len(above) == 0:
+        raise ValueError(f"max(phi_1, phi_2) stays below {beta} for K <= {K_max}")
+    i = above[0]
+    return brentq(lambda k: largest_deviation([k], criterion)[0] - beta, grid[i - 1], grid[i],
+                  xtol=1e-14, rtol=1e-13)

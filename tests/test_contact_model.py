@@ -1,0 +1,94 @@
+"""contact_model: effective quantities, Hertz scales, K and velocities, engine parameters."""
+
+import math
+
+import pytest
+
+from contact_model import Body, ContactPair, effective_mass, effective_modulus, effective_radius
+from contact_model import collision_scales as cs
+from reference import HERTZ_TAU, K_PREFACTOR
+
+STEEL = dict(E=109e9, R=0.635e-2 / 2, M=4 / 3 * math.pi * 0.635e-2**3 * 7800 / 2, eta=67e3)
+
+
+def test_effective_quantities_for_unequal_spheres_of_two_materials():
+    E = effective_modulus(200e9, 0.3, 70e9, 0.33)
+    assert E == pytest.approx(1 / ((1 - 0.09) / 200e9 + (1 - 0.1089) / 70e9), rel=1e-15)
+    assert effective_radius(0.01, 0.03) == pytest.approx(0.0075, rel=1e-15)
+    assert effective_mass(2.0, 6.0) == pytest.approx(1.5, rel=1e-15)
+
+
+def test_plane_and_rigid_plane_limits():
+    assert effective_radius(0.01, math.inf) == 0.01
+    assert effective_mass(0.3, math.inf) == 0.3
+    assert effective_modulus(200e9, 0.3, math.inf, 0.0) == pytest.approx(200e9 / 0.91, rel=1e-15)
+
+
+def test_two_equal_spheres_of_one_material():
+    pair = ContactPair.from_bodies(Body(0.01, 7800, 210e9, 0.3), Body(0.01, 7800, 210e9, 0.3), 1e4)
+    assert pair.geometry == "sphere-sphere"
+    assert pair.E == pytest.approx(210e9 / (2 * 0.91), rel=1e-15)
+    assert pair.R == pytest.approx(0.005, rel=1e-15)
+    assert pair.M == pytest.approx(4 / 3 * math.pi * 1e-6 * 7800 / 2, rel=1e-15)
+
+
+def test_hertz_scales_match_the_papers_closed_forms():
+    E, R, M, V = STEEL["E"], STEEL["R"], STEEL["M"], 1.3
+    T_e = cs.hertz_time(E, R, M, V)
+    A_e = cs.hertz_area(E, R, M, V)
+    assert T_e == pytest.approx(2.8683 * (M**2 / (R * V * E**2)) ** 0.2, rel=2e-5)     # eq. 1a
+    assert A_e == pytest.approx(math.pi * (15 * M * V**2 * R**2 / (16 * E)) ** 0.4, rel=1e-14)  # eq. 1b
+    assert math.sqrt(A_e) * T_e**2 == pytest.approx(14.39 * M / E, rel=5e-4)    # Q1e
+    assert A_e / (V * T_e) == pytest.approx(1.0674 * R, rel=5e-5)               # Q2e
+    delta_e = cs.hertz_overlap(E, R, M, V)
+    # Energy: the elastic energy (8/15) E sqrt(R) delta_e^{5/2} at the maximum is (1/2) M V^2.
+    assert 8 / 15 * E * math.sqrt(R) * delta_e**2.5 == pytest.approx(0.5 * M * V**2, rel=1e-14)
+    assert cs.hertz_force(E, R, M, V) == pytest.approx(4 / 3 * E * math.sqrt(R) * delta_e**1.5, rel=1e-14)
+
+
+def test_K_two_ways_and_the_velocity_that_gives_it():
+    E, R, M, eta = STEEL["E"], STEEL["R"], STEEL["M"], STEEL["eta"]
+    V = 2.5
+    K = cs.dissipation_parameter(E, R, M, eta, V)
+    assert K == pytest.approx(K_PREFACTOR * (eta**5 * V * R / (M**2 * E**3)) ** 0.2, rel=1e-14)
+    assert K == pytest.approx(K_PREFACTOR * (V / cs.viscous_velocity(E, R, M, eta)) ** 0.2, rel=1e-14)
+    assert cs.velocity_for_dissipation(E, R, M, eta, K) == pytest.approx(V, rel=1e-13)
+    eta_01 = cs.viscosity_for_dissipation(E, R, M, 1.0, 0.1)
+    assert cs.dissipation_parameter(E, R, M, eta_01, 1.0) == pytest.approx(0.1, rel=1e-14)
+    with pytest.raises(ValueError):
+        cs.velocity_for_dissipation(E, R, M, eta, 0.0)
+
+
+def test_critical_velocity_rule():
+    """V_c = V_D (K_c/alpha)^5; with the paper's K_c = 2.5 beta^{1/2} that is 3.7 beta^{5/2} V_D."""
+    assert (2.5 / K_PREFACTOR) ** 5 == pytest.approx(3.7, abs=0.05)
+    pair = ContactPair("sphere-sphere", Body(STEEL["R"] * 2, 7800), Body(STEEL["R"] * 2, 7800),
+                       STEEL["E"], STEEL["eta"])
+    from reference.critical import critical_dissipation, largest_deviation
+    K_c = critical_dissipation(0.01)
+    assert largest_deviation([K_c])[0] == pytest.approx(0.01, rel=1e-9)
+    assert largest_deviation([0.99 * K_c])[0] < 0.01
+    assert pair.critical_velocity(0.01) == pytest.approx(pair.viscous_velocity * (K_c / K_PREFACTOR) ** 5, rel=1e-12)
+
+
+def test_engine_parameters_reproduce_the_model_force():
+    E, R, M, eta = STEEL["E"], STEEL["R"], STEEL["M"], STEEL["eta"]
+    pair = ContactPair("sphere-sphere", Body(2 * R, 7800), Body(2 * R, 7800), E, eta)
+    delta, rate = 3e-6, 0.7
+    model = 4 / 3 * E * math.sqrt(R) * delta**1.5 + 2 * eta * math.sqrt(R) * math.sqrt(delta) * rate
+    lig = pair.engine_parameters("liggghts")
+    a = math.sqrt(pair.R * delta)
+    assert lig["kn"] * a * delta + lig["gamman"] * pair.M * a * rate == pytest.approx(model, rel=1e-13)
+    yade = pair.engine_parameters("yade")
+    E_mindlin = 1 / (2 * (1 - yade["poisson"] ** 2) / yade["young"])
+    assert 4 / 3 * E_mindlin * math.sqrt(pair.R) * delta**1.5 + yade["c"] * math.sqrt(delta) * rate \
+        == pytest.approx(model, rel=1e-13)
+    lmp = pair.engine_parameters("lammps")
+    assert lmp["kn"] * a * delta + lmp["eta_n0"] * a * pair.M * rate == pytest.approx(model, rel=1e-13)
+    with pytest.raises(ValueError, match="unknown engine"):
+        pair.engine_parameters("nosuch")
+
+
+def test_hertz_time_tau_is_the_reference_constant():
+    E, R, M = STEEL["E"], STEEL["R"], STEEL["M"]
+    assert cs.hertz_time(E, R, M, 1.0) == pytest.approx(HERTZ_TAU * cs.hertz_overlap(E, R, M, 1.0), rel=1e-15)

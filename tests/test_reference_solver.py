@@ -1,0 +1,115 @@
+"""The reference solver against the issue's reference values, closed forms, an independent
+mpmath solution, the Hertz limit and energy conservation."""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from reference import (FIRST_ORDER, FIRST_ORDER_INTEGRAL, HERTZ_TAU, K_PREFACTOR,
+                       solve_collision, solve_collisions)
+from independent_solver import solve_high_precision
+
+KEYS = ("x_max", "tau_f", "eps_F0", "tau_0", "eps_x0")
+# Reference values of the foundation issue (15 significant digits).
+REFERENCE = {
+    0.1: (0.961532369910445, 2.89442295753887, 0.905405538032722, 2.97444264691693, 0.904885783491945),
+    1.0: (0.727430582889519, 2.55809273346605, 0.433312255905162, 3.40325174621087, 0.380838630487197),
+}
+ACCURACY = 1e-10  # relative accuracy the study requires of the solver
+
+
+def test_closed_forms():
+    assert HERTZ_TAU == pytest.approx(2.94327518432470, rel=1e-14)
+    assert K_PREFACTOR == pytest.approx(1.924034, abs=5e-7)
+    assert FIRST_ORDER_INTEGRAL == pytest.approx(0.50445489, abs=5e-9)
+    # The paper's prefactor 2.8683 of T_e = 2.8683 (M^2/(R V E^2))^{1/5} is tau_e (15/16)^{2/5}.
+    assert HERTZ_TAU * (15 / 16) ** 0.4 == pytest.approx(2.8683, abs=5e-5)
+
+
+@pytest.mark.parametrize("K", sorted(REFERENCE))
+def test_reference_values(K):
+    r = solve_collision(K)
+    for key, expected in zip(KEYS, REFERENCE[K]):
+        assert r[key] == pytest.approx(expected, rel=1e-13), key
+
+
+@pytest.mark.parametrize("K", ["0.1", "1", "0.37"])
+def test_against_independent_high_precision_solution(K):
+    """mpmath (Taylor series, 25 digits, tau-time in the middle phase) vs the fast solver."""
+    exact = solve_high_precision(K, dps=25)
+    fast = solve_collision(float(K))
+    for key in ("x_max", "tau_max", "tau_f", "eps_F0", "tau_0", "eps_x0"):
+        assert fast[key] == pytest.approx(float(exact[key]), rel=ACCURACY), key
+
+
+def test_hertz_limit():
+    r = solve_collision(0.0)
+    assert r["x_max"] == pytest.approx(1.0, rel=1e-12)
+    assert r["tau_0"] == pytest.approx(HERTZ_TAU, rel=1e-12)
+    assert r["tau_max"] == pytest.approx(HERTZ_TAU / 2, rel=1e-12)
+    assert r["eps_x0"] == pytest.approx(1.0, rel=1e-12)
+    assert r["tau_f"] == r["tau_0"] and r["eps_F0"] == r["eps_x0"]
+    assert r["force_max"] == pytest.approx(1.25, rel=1e-12)  # (5/4) x_max^{3/2}
+    assert r["dissipated_x0"] == 0.0
+
+
+def test_energy_partition_sums_to_one_over_the_whole_range():
+    t = solve_collisions(np.linspace(0, 10, 201))
+    assert np.all(t.energy_residual < 1e-11)
+    # x0 end: x = 0, so the kinetic energy eps^2 and the dissipated energy make up the whole.
+    assert np.allclose(t.eps_x0**2 + t.dissipated_x0, 1.0, rtol=0, atol=1e-11)
+    # F0 end: the elastic energy x^{5/2} at separation is (4/5 K eps_F0)^{5/2}.
+    x_f = 0.8 * t.K * t.eps_F0
+    assert np.allclose(t.eps_F0**2 + x_f**2.5 + t.dissipated_F0, 1.0, rtol=0, atol=1e-11)
+
+
+def test_dissipation_before_and_after_maximum_compression_is_positive_and_ordered():
+    t = solve_collisions([0.05, 0.5, 2.0])
+    assert np.all(t.dissipated_at_max > 0)
+    assert np.all(t.dissipated_F0 > t.dissipated_at_max)
+    assert np.all(t.dissipated_x0 > t.dissipated_F0)
+
+
+def test_first_order_coefficients_by_finite_difference():
+    """d/dK at K = 0 by a central difference over [-h, h] (error ~ h^2 c3 ~ 1e-8)."""
+    h = 1e-4
+    t = solve_collisions([-h, h], allow_negative=True)
+    d_eps = (t.eps_x0[1] - t.eps_x0[0]) / (2 * h)
+    d_area = (t.x_max[1] - t.x_max[0]) / (2 * h)
+    d_time = (t.tau_0[1] - t.tau_0[0]) / (2 * h) / HERTZ_TAU
+    assert d_eps == pytest.approx(FIRST_ORDER["eps"], abs=1e-7)
+    assert d_area == pytest.approx(FIRST_ORDER["A/A_e"], abs=1e-7)
+    assert d_time == pytest.approx(FIRST_ORDER["T/T_e"], abs=1e-7)
+
+
+def test_maximum_force_is_the_maximum_along_a_plain_integration():
+    """Cross-check of force_max against a dense plain tau-integration started off x = 0."""
+    K = 0.7
+    r = solve_collision(K)
+    tau0 = 1e-3  # start on the small-tau series x = tau - (4/15) K tau^{5/2} + ...
+    x0, v0 = tau0 - (4 / 15) * K * tau0**2.5, 1 - (2 / 3) * K * tau0**1.5
+    sol = solve_ivp(lambda t, y: [y[1], -np.sqrt(max(y[0], 0)) * (K * y[1] + 1.25 * y[0])],
+                    (tau0, r["tau_max"]), [x0, v0], rtol=1e-12, atol=1e-14, dense_output=True)
+    tau = np.linspace(tau0, r["tau_max"], 20001)
+    x, v = sol.sol(tau)
+    F = np.sqrt(x) * (1.25 * x + K * v)
+    assert F.max() == pytest.approx(r["force_max"], rel=1e-6)
+    assert tau[F.argmax()] == pytest.approx(r["tau_force_max"], abs=2e-3)
+
+
+def test_rejects_K_outside_range():
+    with pytest.raises(ValueError, match="K must lie in"):
+        solve_collisions([10.5])
+    with pytest.raises(ValueError, match="K must lie in"):
+        solve_collisions([-0.1])
+    with pytest.raises(ValueError, match="finite"):
+        solve_collisions([np.nan])
+
+
+def test_batches_agree_with_single_solutions():
+    Ks = np.linspace(0.01, 3, 300)
+    batch = solve_collisions(Ks)
+    for i in (0, 137, 299):
+        single = solve_collision(Ks[i])
+        for key in ("x_max", "tau_f", "eps_F0", "tau_0", "eps_x0"):
+            assert getattr(batch, key)[i] == pytest.approx(single[key], rel=1e-11)
