@@ -132,54 +132,80 @@ def _force_rate(x, v, K):
     return v * (ELASTIC * x + K * v) / (2.0 * sx) + sx * (ELASTIC * v - K * F)
 
 
-def _integrate(rhs, start, stop, y0, K):
-    """Integrate one phase for a batch: the independent variable w runs from start to stop
-    (arrays, one per K) through s in [0, 1], w = start + s (stop - start)."""
+@dataclass
+class _Phase:
+    """One integrated phase of a batch: the independent variable w (u = sqrt(x), or v) runs
+    from `start` to `stop` (one value per K) as s runs over [0, 1]; `sol` is the stacked
+    DOP853 solution in s with the state (3, n) flattened."""
+
+    kind: str  # "u" (state v, tau, D) or "v" (state x, tau, D)
+    start: np.ndarray
+    stop: np.ndarray
+    sol: object
+
+    def physical(self, s, y, k):
+        """(x, v, tau, D) from the position s, the phase state y (3, ...) and batch index k."""
+        w = self.start[k] + s * (self.stop[k] - self.start[k])
+        if self.kind == "u":
+            return w * w, y[0], y[1], y[2]
+        return y[0], w, y[1], y[2]
+
+    def state(self, s, k):
+        """(x, v, tau, D) at positions s (m,) for batch members k (m,)."""
+        s = np.where(np.isfinite(s), s, 0.0)
+        m = len(s)
+        y = self.sol.sol(s).reshape(3, -1, m)[:, k, np.arange(m)]
+        return self.physical(s, y, k)
+
+    def end(self):
+        """(x, v, tau, D) at s = 1 for the whole batch (the integrator's last step: exact)."""
+        k = np.arange(len(self.start))
+        return self.physical(1.0, self.sol.y[:, -1].reshape(3, -1), k)
+
+    def first_root(self, g):
+        """First zero from above of g(x, v, k) along the phase, for every K of the batch.
+
+        Returns (s_root, found); found is False where g does not drop from > 0 to <= 0.
+        The sign change is bracketed on the integrator's steps, then refined on the dense
+        output with Chandrupatla's method.
+        """
+        n = len(self.start)
+        k = np.arange(n)
+        grid = self.sol.t
+        y = self.sol.sol(grid).reshape(3, n, len(grid))
+        with np.errstate(divide="ignore", invalid="ignore"):  # g may be singular at x = 0
+            x, v, _, _ = self.physical(grid[None, :], y, k[:, None])
+            gv = g(x, v, k[:, None])
+        crossed = (gv[:, :-1] > 0) & (gv[:, 1:] <= 0)
+        found = crossed.any(axis=1)
+        if not found.any():
+            return np.full(n, np.nan), found
+        idx = crossed.argmax(axis=1)
+
+        def g_at(s, k):  # find_root passes only the elements still iterating, with their k
+            x, v, _, _ = self.state(s, k)
+            return g(x, v, k)
+
+        with np.errstate(divide="ignore", invalid="ignore"):
+            res = find_root(g_at, (grid[idx], grid[idx + 1]), args=(k,),
+                            tolerances={"xatol": 1e-16, "xrtol": 4e-16})
+        return np.where(found, res.x, np.nan), found
+
+
+def _integrate(kind, start, stop, y0, K) -> _Phase:
+    """Integrate one phase for a batch, w = start + s (stop - start), s in [0, 1]."""
     n = len(K)
     span = stop - start
+    rhs = _rhs_sqrt_overlap if kind == "u" else _rhs_velocity
 
     def f(s, y):
-        w = start + s * span
-        return (rhs(w, y.reshape(3, n), K) * span).ravel()
+        return (rhs(start + s * span, y.reshape(3, n), K) * span).ravel()
 
     sol = solve_ivp(f, (0.0, 1.0), np.asarray(y0, float).ravel(), method="DOP853",
                     rtol=RTOL, atol=ATOL, dense_output=True)
     if sol.status != 0:
         raise FloatingPointError(f"reference ODE integration failed: {sol.message}")
-    return sol
-
-
-def _first_root(sol, g, n):
-    """First zero from above of g(s, y, k) along a phase's dense output, for every K.
-
-    g is elementwise: s, the state y (3, ...) and the batch index k broadcast together.
-    Returns (s_root, found); found is False where g does not drop from > 0 to <= 0.
-    """
-    grid = sol.t
-    k = np.arange(n)
-    with np.errstate(divide="ignore", invalid="ignore"):  # g may be singular at x = 0 (s = 0)
-        gv = g(grid[None, :], sol.sol(grid).reshape(3, n, len(grid)), k[:, None])
-    crossed = (gv[:, :-1] > 0) & (gv[:, 1:] <= 0)
-    found = crossed.any(axis=1)
-    if not found.any():
-        return np.full(n, np.nan), found
-    idx = crossed.argmax(axis=1)
-
-    def g_at(s, k):
-        # find_root passes only the elements still iterating, with their own k.
-        return g(s, _state_at(sol, s, k), k)
-
-    res = find_root(g_at, (grid[idx], grid[idx + 1]), args=(k,),
-                    tolerances={"xatol": 1e-16, "xrtol": 4e-16})
-    return np.where(found, res.x, np.nan), found
-
-
-def _state_at(sol, s, k):
-    """State (3, m) of a phase at positions s (m,) for batch members k (m,)."""
-    s = np.where(np.isfinite(s), s, 0.0)
-    full = sol.sol(s)  # (3 n, m)
-    m = len(s)
-    return full.reshape(3, -1, m)[:, k, np.arange(m)]
+    return _Phase(kind, start, stop, sol)
 
 
 def _x_max_lower_bound(K):
@@ -198,18 +224,19 @@ def _x_max_lower_bound(K):
     return y * y
 
 
-def _solve_batch(K: np.ndarray) -> CollisionTable:
+def _integrate_phases(K: np.ndarray) -> tuple[_Phase, _Phase, _Phase, _Phase]:
+    """The four phases A, B1, B2, C of the module docstring for a batch of K."""
     n = len(K)
     zeros, ones = np.zeros(n), np.ones(n)
 
     # A: approach, u from 0 to u_s.
     u_s = np.sqrt(0.5 * _x_max_lower_bound(K))
-    sol_a = _integrate(_rhs_sqrt_overlap, zeros, u_s, np.stack([ones, zeros, zeros]), K)
-    v1, tau1, D1 = sol_a.y[:, -1].reshape(3, n)
+    a = _integrate("u", zeros, u_s, np.stack([ones, zeros, zeros]), K)
+    _, v1, tau1, D1 = a.end()
 
     # B1: v from v1 down to 0, ending at the maximum compression.
-    sol_b1 = _integrate(_rhs_velocity, v1, zeros, np.stack([u_s**2, tau1, D1]), K)
-    x_max, tau_max, D_max = sol_b1.y[:, -1].reshape(3, n)
+    b1 = _integrate("v", v1, zeros, np.stack([u_s**2, tau1, D1]), K)
+    x_max, _, tau_max, D_max = b1.end()
 
     # B2: v from 0 down to v2. The force must stay positive in B2: 5/4 x + K v > 0. The
     # force vanishes at v = -eps_F0 >= 0.45 min(v1, 5/4 x_max / K) for all K in [0, 10]
@@ -217,25 +244,26 @@ def _solve_batch(K: np.ndarray) -> CollisionTable:
     # bound keeps a margin of almost 2 and keeps phase C away from the maximum compression.
     with np.errstate(divide="ignore"):
         v2 = -V2_FRACTION * np.minimum(v1, np.where(K > 0, ELASTIC * x_max / K, np.inf))
-    sol_b2 = _integrate(_rhs_velocity, zeros, v2, np.stack([x_max, tau_max, D_max]), K)
-    x2, tau2, D2 = sol_b2.y[:, -1].reshape(3, n)
-    if np.any(ELASTIC * x2 + K * v2 <= 0) or np.any(x2 <= 0):
-        bad = K[(ELASTIC * x2 + K * v2 <= 0) | (x2 <= 0)]
-        raise FloatingPointError(f"reference ODE: the force vanished before v2 for K = {bad}")
+    b2 = _integrate("v", zeros, v2, np.stack([x_max, tau_max, D_max]), K)
+    x2, _, tau2, D2 = b2.end()
+    bad = (ELASTIC * x2 + K * v2 <= 0) | (x2 <= 0)
+    if np.any(bad):
+        raise FloatingPointError(f"reference ODE: the force vanished before v2 for K = {K[bad]}")
 
     # C: separation, u from sqrt(x2) down to 0, ending at x = 0 (criterion x0).
-    u2 = np.sqrt(x2)
-    sol_c = _integrate(_rhs_sqrt_overlap, u2, zeros, np.stack([v2, tau2, D2]), K)
-    v_end, tau_0, D_0 = sol_c.y[:, -1].reshape(3, n)
+    c = _integrate("u", np.sqrt(x2), zeros, np.stack([v2, tau2, D2]), K)
+    return a, b1, b2, c
+
+
+def _solve_batch(K: np.ndarray) -> CollisionTable:
+    a, b1, b2, c = _integrate_phases(K)
+    x_max, _, tau_max, D_max = b1.end()
+    _, v_end, tau_0, D_0 = c.end()
 
     # F0: the force 5/4 x + K v (times x^{1/2} > 0) first drops to zero in phase C.
-    def force_sign_c(s, y, k):
-        u = u2[k] * (1.0 - s)
-        return ELASTIC * u * u + K[k] * y[0]
-
-    s_f, found = _first_root(sol_c, force_sign_c, n)
-    k = np.arange(n)
-    v_f, tau_f, D_f = _state_at(sol_c, s_f, k)
+    s_f, found = c.first_root(lambda x, v, k: ELASTIC * x + K[k] * v)
+    k = np.arange(len(K))
+    _, v_f, tau_f, D_f = c.state(s_f, k)
     # Where the force never changes sign (K = 0, force ~ x^{3/2}) it vanishes at x = 0;
     # for K < 0 the force is negative from the first contact and F0 means nothing.
     no_sign_change = np.where(K < 0, np.nan, 1.0)
@@ -244,25 +272,17 @@ def _solve_batch(K: np.ndarray) -> CollisionTable:
     D_f = np.where(found, D_f, D_0 * no_sign_change)
 
     # Maximum force: dF/dtau drops through zero during A or B1 (at the end of B1 when K = 0).
-    def rate_a(s, y, k):
-        u = u_s[k] * s
-        return _force_rate(u * u, y[0], K[k])
-
-    def rate_b1(s, y, k):
-        return _force_rate(y[0], v1[k] * (1.0 - s), K[k])
-
-    s_fa, in_a = _first_root(sol_a, rate_a, n)
-    s_fb, in_b = _first_root(sol_b1, rate_b1, n)
-    ya = _state_at(sol_a, s_fa, k)
-    yb = _state_at(sol_b1, s_fb, k)
-    x_fa, v_fa = (u_s * s_fa) ** 2, ya[0]
-    x_fb, v_fb = yb[0], v1 * (1.0 - s_fb)
-    x_fm = np.where(in_a, x_fa, np.where(in_b, x_fb, x_max))
-    v_fm = np.where(in_a, v_fa, np.where(in_b, v_fb, 0.0))
-    tau_fm = np.where(in_a, ya[1], np.where(in_b, yb[1], tau_max))
+    rate = lambda x, v, k: _force_rate(x, v, K[k])  # noqa: E731
+    s_fa, in_a = a.first_root(rate)
+    s_fb, in_b = b1.first_root(rate)
+    xa, va, ta, _ = a.state(s_fa, k)
+    xb, vb, tb, _ = b1.state(s_fb, k)
+    x_fm = np.where(in_a, xa, np.where(in_b, xb, x_max))
+    v_fm = np.where(in_a, va, np.where(in_b, vb, 0.0))
+    tau_fm = np.where(in_a, ta, np.where(in_b, tb, tau_max))
 
     residual = np.max(np.abs(np.stack([
-        v1**2 + u_s**5 + D1, x_max**2.5 + D_max, v2**2 + x2**2.5 + D2, v_end**2 + D_0,
+        x**2.5 + v**2 + D for x, v, _, D in (p.end() for p in (a, b1, b2, c))
     ]) - 1.0), axis=0)
 
     return CollisionTable(
@@ -270,6 +290,26 @@ def _solve_batch(K: np.ndarray) -> CollisionTable:
         tau_0=tau_0, eps_x0=-v_end, force_max=_force(x_fm, v_fm, K), tau_force_max=tau_fm,
         dissipated_at_max=D_max, dissipated_F0=D_f, dissipated_x0=D_0, energy_residual=residual,
     )
+
+
+def collision_trajectory(K: float, points_per_phase: int = 200) -> dict[str, np.ndarray]:
+    """The trajectory of one collision up to x = 0 and its energy partition.
+
+    Sampled uniformly in each phase's own variable (denser where x changes fast), sorted in
+    tau. Returns arrays tau, x, v (= x'), force (x^{1/2}(5/4 x + K x')), kinetic (v^2),
+    elastic (x^{5/2}) and dissipated (D), energies as fractions of (1/2) M* V^2.
+    """
+    K_arr = np.array([float(K)])
+    if not K_RANGE[0] <= K <= K_RANGE[1]:
+        raise ValueError(f"K must lie in [{K_RANGE[0]}, {K_RANGE[1]}], got {K}")
+    s = np.linspace(0.0, 1.0, points_per_phase)
+    k = np.zeros(points_per_phase, dtype=int)
+    parts = [p.state(s, k) for p in _integrate_phases(K_arr)]
+    x, v, tau, D = (np.concatenate([p[i] for p in parts]) for i in range(4))
+    order = np.argsort(tau, kind="stable")
+    x, v, tau, D = x[order], v[order], tau[order], D[order]
+    return {"tau": tau, "x": x, "v": v, "force": _force(np.maximum(x, 0.0), v, K),
+            "kinetic": v * v, "elastic": np.maximum(x, 0.0) ** 2.5, "dissipated": D}
 
 
 def solve_collisions(K, *, batch: int = BATCH, allow_negative: bool = False) -> CollisionTable:

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from reference import (FIRST_ORDER, FIRST_ORDER_INTEGRAL, HERTZ_TAU, K_PREFACTOR,
+from reference import (FIRST_ORDER, FIRST_ORDER_INTEGRAL, HERTZ_TAU, K_PREFACTOR, collision_trajectory,
                        solve_collision, solve_collisions)
 from independent_solver import solve_high_precision
 
@@ -113,3 +113,26 @@ def test_batches_agree_with_single_solutions():
         single = solve_collision(Ks[i])
         for key in ("x_max", "tau_f", "eps_F0", "tau_0", "eps_x0"):
             assert getattr(batch, key)[i] == pytest.approx(single[key], rel=1e-11)
+
+
+@pytest.mark.parametrize("K", [0.0, 0.1, 1.0, 4.0])
+def test_trajectory_energy_partition(K):
+    tr = collision_trajectory(K, points_per_phase=150)
+    total = tr["kinetic"] + tr["elastic"] + tr["dissipated"]
+    assert np.max(np.abs(total - 1.0)) < 1e-11
+    assert np.all(np.diff(tr["tau"]) >= 0)
+    assert np.all(np.diff(tr["dissipated"]) >= -1e-15)  # dissipation never decreases
+    r = solve_collision(K)
+    assert tr["tau"][-1] == pytest.approx(r["tau_0"], rel=1e-13)
+    assert tr["x"].max() == pytest.approx(r["x_max"], rel=1e-13)
+    assert tr["dissipated"][-1] == pytest.approx(r["dissipated_x0"], rel=1e-12, abs=1e-15)
+
+
+def test_trajectory_is_the_hertz_solution_at_K_0():
+    """At K = 0 energy conservation gives the time in closed form: tau(x) on the approach is
+    int_0^x dx / sqrt(1 - x^{5/2}) = x 2F1(1/2, 2/5; 7/5; x^{5/2})."""
+    from scipy.special import hyp2f1
+    tr = collision_trajectory(0.0, points_per_phase=120)
+    up = (tr["v"] > 0.05) & (tr["x"] < 0.9)
+    x = tr["x"][up]
+    assert tr["tau"][up] == pytest.approx(x * hyp2f1(0.5, 0.4, 1.4, x**2.5), rel=1e-11)
