@@ -1,0 +1,94 @@
+"""The study's engine-independent dump: one CSV per engine run, with a commented header.
+
+Format (version 1)::
+
+    # hertz-dem-dump: 1
+    # engine: "liggghts"
+    # engine_version: "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, ...)"
+    # case: "steel"
+    # ... one line per metadata key, the value JSON-encoded ...
+    time,overlap,normal_velocity,normal_force
+    0,-1.2e-07,1,0
+    ...
+
+Columns (SI): time [s]; overlap delta [m] (negative before contact, where the engine reports
+the gap); normal_velocity d(delta)/dt [m/s] (positive while approaching); normal_force [N]
+(positive when repulsive). Every engine's driver writes this format; nothing downstream knows
+which engine made a dump.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+FORMAT_VERSION = 1
+COLUMNS = ("time", "overlap", "normal_velocity", "normal_force")
+
+
+class DumpError(ValueError):
+    """A dump that cannot be used; the message names the file."""
+
+
+def write_dump(path, meta: dict, data: np.ndarray) -> None:
+    """Write `data` (N x 4, COLUMNS) under a header made from `meta`, atomically.
+
+    The file appears under its name only once it is complete, so an interrupted run never
+    leaves a dump that looks valid.
+    """
+    path = Path(path)
+    data = np.asarray(data, dtype=float)
+    if data.ndim != 2 or data.shape[1] != len(COLUMNS):
+        raise ValueError(f"dump data must have {len(COLUMNS)} columns {COLUMNS}, got shape {data.shape}")
+    buf = io.StringIO()
+    buf.write(f"# hertz-dem-dump: {FORMAT_VERSION}\n")
+    for key, value in meta.items():
+        buf.write(f"# {key}: {json.dumps(value)}\n")
+    buf.write(",".join(COLUMNS) + "\n")
+    np.savetxt(buf, data, delimiter=",", fmt="%.17g")
+    tmp = path.with_name(path.name + ".part")
+    tmp.write_text(buf.getvalue())
+    os.replace(tmp, path)
+
+
+def read_dump(path) -> tuple[dict, dict[str, np.ndarray]]:
+    """Read a dump: (metadata dict, {column: array})."""
+    path = Path(path)
+    meta: dict = {}
+    try:
+        lines = path.read_text().splitlines()
+    except OSError as err:
+        raise DumpError(f"{path}: cannot read dump: {err.strerror}")
+    body_start = 0
+    for body_start, line in enumerate(lines):
+        if not line.startswith("#"):
+            break
+        key, _, value = line[1:].partition(":")
+        try:
+            meta[key.strip()] = json.loads(value)
+        except json.JSONDecodeError:
+            raise DumpError(f"{path}: header line {body_start + 1} is not 'key: <json>': {line!r}")
+    if meta.get("hertz-dem-dump") != FORMAT_VERSION:
+        raise DumpError(f"{path}: not a hertz-dem-dump version {FORMAT_VERSION} file")
+    if body_start >= len(lines) or tuple(lines[body_start].split(",")) != COLUMNS:
+        raise DumpError(f"{path}: expected the column line {','.join(COLUMNS)}")
+    try:
+        data = np.loadtxt(lines[body_start + 1:], delimiter=",", ndmin=2)
+    except ValueError as err:
+        raise DumpError(f"{path}: unreadable data: {err}")
+    if data.shape[0] == 0 or data.shape[1] != len(COLUMNS):
+        raise DumpError(f"{path}: no data rows")
+    if not np.all(np.isfinite(data)):
+        row = int(np.nonzero(~np.all(np.isfinite(data), axis=1))[0][0])
+        raise DumpError(f"{path}: non-finite value (NaN or inf) in data row {row + 1}")
+    return meta, {c: data[:, i] for i, c in enumerate(COLUMNS)}
+
+
+def finite_or_none(x: float):
+    """JSON has no NaN: metadata numbers that may be NaN go through this."""
+    return None if x is None or (isinstance(x, float) and math.isnan(x)) else x
