@@ -41,8 +41,8 @@ def hertz_force(E: float, R: float, M: float, V: float) -> float:
 
 
 def viscous_velocity(E: float, R: float, M: float, eta: float) -> float:
-    """V_D = M^2 E^3 / (R eta^5)   [m/s]."""
-    return M**2 * E**3 / (R * eta**5)
+    """V_D = M^2 E^3 / (R eta^5)   [m/s]; infinite for an elastic contact (eta = 0)."""
+    return M**2 * E**3 / (R * eta**5) if eta > 0 else math.inf
 
 
 def dissipation_parameter(E: float, R: float, M: float, eta: float, V: float) -> float:

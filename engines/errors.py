@@ -1,0 +1,35 @@
+"""Errors of engine runs, each with what the user needs to act on it."""
+
+from __future__ import annotations
+
+import shutil
+
+INSTALL_HINT = {
+    "liggghts": "install it with: sudo apt-get install liggghts   (or run `make study`, which does)",
+    "yade": "install it with: sudo apt-get install yade   (or run `make study`, which does)",
+    "lammps": "install it with: sudo apt-get install lammps",
+}
+
+
+class EngineMissing(RuntimeError):
+    """The engine's executable is not on PATH."""
+
+    def __init__(self, engine: str, executable: str):
+        self.engine = engine
+        super().__init__(f"{engine}: the executable '{executable}' is not on PATH; {INSTALL_HINT.get(engine, '')}")
+
+
+class EngineRunFailed(RuntimeError):
+    """An engine run that produced no valid collision; the message names the run and its log."""
+
+    def __init__(self, run_name: str, problem: str, log_path):
+        self.run_name, self.problem, self.log_path = run_name, problem, str(log_path)
+        super().__init__(f"{run_name}: {problem} (engine log: {log_path})")
+
+
+def require_executable(engine: str, executable: str) -> str:
+    """The full path of `executable`, or EngineMissing with the install command."""
+    path = shutil.which(executable)
+    if path is None:
+        raise EngineMissing(engine, executable)
+    return path

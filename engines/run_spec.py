@@ -1,0 +1,112 @@
+"""What one engine run is: a contact pair, an impact velocity, a time step and a contact law.
+
+Everything an engine needs is derived here, from `contact_model`, so that the decks and drivers
+only translate numbers into their engine's syntax.
+
+Contact laws:
+
+- ``viscoelastic``: the model under test, F = (4/3) E* sqrt(R*) delta^{3/2} + 2 eta sqrt(R*)
+  delta^{1/2} d(delta)/dt, with the attractive tail kept (the x0 trajectory), so that one run
+  gives both criteria.
+- ``viscoelastic_clipped``: the same force clipped at zero (the bodies separate where the force
+  vanishes: F0 physics). Represents criterion F0 only.
+- ``default``: what a user gets out of the box (LIGGGHTS ``model hertz``, YADE Hertz-Mindlin with
+  its restitution-coefficient damping), its restitution matched to the viscoelastic eps_F0 at
+  one velocity (``matched_K``). Compared with the viscoelastic reference, not expected to agree.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from contact_model import ContactPair
+from reference import HERTZ_TAU, solve_collision
+
+LAWS = ("viscoelastic", "viscoelastic_clipped", "default")
+CRITERIA_OF_LAW = {"viscoelastic": ("x0", "F0"), "viscoelastic_clipped": ("F0",), "default": ("x0", "F0")}
+
+#: Steps of free flight before contact and after separation.
+GAP_STEPS = 20
+TAIL_STEPS = 30
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One engine run. SI units. `name` is unique within a case and safe as a file name."""
+
+    case: str
+    engine: str
+    law: str
+    pair: ContactPair
+    velocity: float
+    time_step_factor: float = 1000.0  # dt = T_e / factor
+    matched_restitution: float | None = None  # for law 'default': the eps it is tuned to
+    extra: dict = field(default_factory=dict, compare=False)
+
+    def __post_init__(self):
+        if self.law not in LAWS:
+            raise ValueError(f"unknown contact law {self.law!r}; known: {LAWS}")
+        if not (self.velocity > 0 and math.isfinite(self.velocity)):
+            raise ValueError(f"impact velocity must be positive, got {self.velocity}")
+        if self.law == "default" and self.matched_restitution is None:
+            raise ValueError("law 'default' needs the restitution coefficient it is matched to")
+
+    @property
+    def scales(self) -> dict:
+        return self.pair.scales(self.velocity)
+
+    @property
+    def K(self) -> float:
+        return self.pair.dissipation_parameter(self.velocity)
+
+    @property
+    def time_step(self) -> float:
+        return self.scales["T_e"] / self.time_step_factor
+
+    @property
+    def represents(self) -> tuple[str, ...]:
+        return CRITERIA_OF_LAW[self.law]
+
+    @property
+    def name(self) -> str:
+        return f"{self.engine}-{self.law}-{self.pair.geometry}-V{self.velocity:.6e}-dt{self.time_step_factor:g}"
+
+    def initial_gap(self) -> float:
+        """Distance between the surfaces at t = 0 [m]: GAP_STEPS steps of approach."""
+        return GAP_STEPS * self.velocity * self.time_step
+
+    def steps(self) -> int:
+        """Steps to run: the approach, the contact (the reference x0 duration, with a margin
+        for the engines' own errors and for the default laws), and some free flight."""
+        K = min(self.K, 10.0)
+        tau_0 = solve_collision(K)["tau_0"] if K > 0 else HERTZ_TAU
+        contact_steps = 1.25 * tau_0 / HERTZ_TAU * self.time_step_factor
+        return int(GAP_STEPS + math.ceil(contact_steps) + TAIL_STEPS)
+
+    def initial_velocities(self) -> tuple[float, float]:
+        """Velocities of body 1 and 2 along the line of centres (body 1 moves +x towards
+        body 2). The centre of mass is at rest for two spheres; a plane does not move."""
+        if self.pair.body_2.is_plane:
+            return self.velocity, 0.0
+        m1, m2 = self.pair.body_1.mass, self.pair.body_2.mass
+        return self.velocity * m2 / (m1 + m2), -self.velocity * m1 / (m1 + m2)
+
+    def metadata(self) -> dict:
+        """The case parameters recorded in every dump header."""
+        p = self.pair
+        s = self.scales
+        meta = {
+            "case": self.case, "engine": self.engine, "law": self.law, "geometry": p.geometry,
+            "represents": list(self.represents),
+            "impact_velocity": self.velocity, "K": self.K, "time_step": self.time_step,
+            "time_step_factor": self.time_step_factor,
+            "effective_modulus": p.E, "effective_radius": p.R, "effective_mass": p.M,
+            "viscosity": p.eta, "radius_1": p.body_1.radius, "density_1": p.body_1.density,
+            "radius_2": None if p.body_2.is_plane else p.body_2.radius,
+            "density_2": None if p.body_2.is_plane else p.body_2.density,
+            "delta_e": s["delta_e"], "T_e": s["T_e"], "A_e": s["A_e"],
+        }
+        if self.matched_restitution is not None:
+            meta["matched_restitution"] = self.matched_restitution
+        return meta

@@ -1,0 +1,82 @@
+"""LIGGGHTS, run for real: the viscoelastic Hertz contact against the reference solver, and the
+errors a user gets for a missing engine, a crash, or a run that misses the collision."""
+
+import pytest
+
+from engine_cases import TOLERANCE, VELOCITY, relative_errors, require_engine, steel_pair
+from engines import EngineMissing, EngineRunFailed, RunSpec
+from engines import liggghts
+from postprocess.collision_metrics import collision_metrics
+from postprocess.dump_file import read_dump
+
+
+@pytest.fixture(autouse=True)
+def _needs_liggghts():
+    require_engine("liggghts", "liggghts")
+
+
+def run(tmp_path, geometry, law="viscoelastic", K=0.1, **kw):
+    spec = RunSpec("steel", "liggghts", law, steel_pair(geometry, K), VELOCITY, **kw)
+    meta, cols = read_dump(liggghts.run_liggghts(spec, tmp_path))
+    return spec, meta, collision_metrics(*(cols[c] for c in ("time", "overlap", "normal_velocity", "normal_force")),
+                                         impact_velocity=VELOCITY)
+
+
+@pytest.mark.parametrize("geometry", ["sphere-sphere", "sphere-plane"])
+def test_viscoelastic_matches_reference_both_criteria(tmp_path, geometry):
+    spec, meta, m = run(tmp_path, geometry)
+    assert meta["engine"] == "liggghts" and "3.8.0" in meta["engine_version"]
+    assert meta["K"] == pytest.approx(0.1, rel=1e-12) and len(meta["deck_sha256"]) == 64
+    assert m.samples_in_contact >= 200
+    errors = relative_errors(m, spec)
+    for q, e in errors.items():
+        assert abs(e) < TOLERANCE, (q, e)
+
+
+@pytest.mark.parametrize("geometry", ["sphere-sphere", "sphere-plane"])
+def test_clipped_force_matches_reference_F0(tmp_path, geometry):
+    spec, meta, m = run(tmp_path, geometry, law="viscoelastic_clipped")
+    assert meta["represents"] == ["F0"]
+    errors = relative_errors(m, spec)
+    for q in ("A", "T_F0", "eps_F0"):
+        assert abs(errors[q]) < TOLERANCE, (q, errors[q])
+    # After the force zero the bodies fly apart: the x0 values are not the x0 trajectory's.
+    assert abs(errors["eps_x0"]) > TOLERANCE
+
+
+def test_elastic_contact_is_hertz(tmp_path):
+    spec, _, m = run(tmp_path, "sphere-plane", K=0.0)
+    errors = relative_errors(m, spec)
+    assert abs(errors["eps_x0"]) < 1e-5  # energy is conserved to the integrator's accuracy
+    for q in ("A", "T_x0"):
+        assert abs(errors[q]) < 1e-4, (q, errors[q])
+
+
+def test_missing_engine_names_the_install_command(tmp_path):
+    spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
+    with pytest.raises(EngineMissing, match="apt-get install liggghts"):
+        liggghts.run_liggghts(spec, tmp_path, executable="liggghts-not-installed")
+
+
+def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path, monkeypatch):
+    broken = tmp_path / "decks"
+    broken.mkdir()
+    for name in ("sphere_plane.in", "properties_viscoelastic.in"):
+        (broken / name).write_text((liggghts.DECKS / name).read_text())
+    deck = broken / "sphere_plane.in"
+    deck.write_text(deck.read_text().replace("atom_style      granular", "atom_style      nonsense"))
+    monkeypatch.setattr(liggghts, "DECKS", broken)
+    spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
+    with pytest.raises(EngineRunFailed) as err:
+        liggghts.run_liggghts(spec, tmp_path / "out")
+    assert "exited with status" in str(err.value) and ".liggghts.log" in str(err.value)
+    assert not (tmp_path / "out" / f"{spec.name}.csv").exists()
+
+
+@pytest.mark.parametrize("steps, words", [(10, "never touch"), (200, "still open")])
+def test_runs_that_miss_the_collision_fail(tmp_path, monkeypatch, steps, words):
+    monkeypatch.setattr(RunSpec, "steps", lambda self: steps)
+    spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
+    with pytest.raises(EngineRunFailed, match=words):
+        liggghts.run_liggghts(spec, tmp_path)
+    assert not (tmp_path / f"{spec.name}.csv").exists()
