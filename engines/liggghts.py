@@ -8,18 +8,14 @@ in well under a second.
 from __future__ import annotations
 
 import hashlib
-import math
-import re
 import subprocess
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
-from postprocess.collision_metrics import ExtractionError, collision_metrics
-from postprocess.dump_file import write_dump
-
 from .errors import EngineRunFailed, require_executable
+from .finish_run import load_record, write_run_dump
 from .run_spec import RunSpec
 
 EXECUTABLE = "liggghts"
@@ -119,24 +115,13 @@ def run_liggghts(spec: RunSpec, workdir, executable: str = EXECUTABLE) -> Path:
         raise EngineRunFailed(spec.name, f"liggghts did not finish within {TIMEOUT_S} s", log)
     if done.returncode != 0:
         raise EngineRunFailed(spec.name, f"liggghts exited with status {done.returncode}: {_last_error(log)}", log)
-    try:
-        data = np.loadtxt(raw, comments=("#", "time"), ndmin=2)
-    except (OSError, ValueError) as err:
-        raise EngineRunFailed(spec.name, f"unreadable record {raw}: {err}", log)
-    if data.shape[0] < 3 or data.shape[1] != 4:
-        raise EngineRunFailed(spec.name, f"record {raw} has {data.shape[0]} rows of {data.shape[1]} columns", log)
-    if not np.all(np.isfinite(data)):
-        raise EngineRunFailed(spec.name, "the engine produced NaN or inf", log)
+    data = load_record(spec, raw, log)
     # fix print starts at step 1: prepend the initial state (free flight, no force).
     v1, v2 = spec.initial_velocities()
     data = np.vstack([[0.0, -spec.initial_gap(), v1 - v2, 0.0], data])
-    try:
-        collision_metrics(*data.T, impact_velocity=spec.velocity)
-    except ExtractionError as err:
-        raise EngineRunFailed(spec.name, str(err), log)
     meta = {"engine": "liggghts", "engine_version": liggghts_version(executable),
-            **spec.metadata(), "deck": DECK_OF_GEOMETRY[spec.pair.geometry],
-            "deck_sha256": deck_hash(spec), "engine_variables": {k: v for k, v in var.items() if k != "out"}}
-    write_dump(dump, meta, data)
+            "deck": DECK_OF_GEOMETRY[spec.pair.geometry], "deck_sha256": deck_hash(spec),
+            "engine_variables": {k: v for k, v in var.items() if k != "out"}}
+    write_run_dump(spec, data, dump, log, meta)
     raw.unlink()
     return dump

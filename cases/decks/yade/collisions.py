@@ -1,0 +1,114 @@
+# YADE 2023.02a driver: a sequence of head-on collisions in one YADE process.
+#
+#   yade -n -x collisions.py job=<job.json>
+#
+# Runs under YADE's own Python: yade + the standard library only. The job file (written by
+# engines/yade.py on the host) lists runs; every number in it comes from the host's contact
+# model. For each run this script writes <out> (one row per step: time, overlap,
+# d(overlap)/dt at full steps, normal force) and, at the end, <status> (JSON).
+#
+# Contact law (the host picks one per run):
+#   viscoelastic   Hertz-Mindlin elastic part (k_no = 4/3 E* sqrt(R*), from young = 2E*,
+#                  poisson = 0) with betan = 0, plus the dissipative force
+#                  F_d = c sqrt(delta) d(delta)/dt added with O.forces.addF between the
+#                  InteractionLoop and the NewtonIntegrator; the attractive tail is kept.
+#   viscoelastic_clipped   the same, total force clipped at >= 0 (what YADE's own damping does).
+#   default        Hertz-Mindlin with its restitution damping (Ip2 en), as a user would set it.
+#
+# Geometry (as in the LIGGGHTS decks): body A, a sphere at x1 < 0, moves +x; body B is a sphere
+# at x2 > 0 moving -x, or the plane x = 0 (a Wall with hertzian=True, so that R* = R; YADE
+# represents the wall's radius as 1e8 R, which makes R* = R (1 - 1e-8)).
+#
+# Time: YADE's leapfrog keeps velocities at half steps. At the PyRunner after the
+# InteractionLoop of iteration k, positions and forces are at t_k = k dt and velocities at
+# t_k - dt/2: the dissipative force uses that velocity (as YADE's own damping does), and the
+# record carries the full-step velocity v(t_k) = v(t_k - dt/2) + a_k dt/2.
+import json
+import math
+import sys
+import time
+
+import yade
+import yade.config
+from yade import utils
+
+args = dict(a.split("=", 1) for a in sys.argv[1:])
+with open(args["job"]) as f:
+    JOB = json.load(f)
+
+S = {}
+
+
+def build(run):
+    O.reset()
+    young = run["young"]
+    mat = O.materials.append(FrictMat(young=young, poisson=0.0, density=run["rho1"], frictionAngle=0.0))
+    a = O.bodies.append(utils.sphere((run["x1"], 0, 0), run["R1"], material=mat))
+    O.bodies[a].state.vel = (run["v1"], 0, 0)
+    if run["geometry"] == "sphere-sphere":
+        mat2 = O.materials.append(FrictMat(young=young, poisson=0.0, density=run["rho2"], frictionAngle=0.0))
+        b = O.bodies.append(utils.sphere((run["x2"], 0, 0), run["R2"], material=mat2))
+        O.bodies[b].state.vel = (run["v2"], 0, 0)
+    else:
+        b = O.bodies.append(utils.wall(0.0, axis=0, sense=-1, material=mat))
+    if run["law"] == "default":
+        ip2 = Ip2_FrictMat_FrictMat_MindlinPhys(en=MatchMaker(algo="val", val=run["en"]))
+    else:
+        ip2 = Ip2_FrictMat_FrictMat_MindlinPhys()  # betan unset: no built-in damping
+    O.engines = [
+        ForceResetter(),
+        InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Wall_Aabb()]),
+        InteractionLoop(
+            [Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom(hertzian=True)],
+            [ip2],
+            [Law2_ScGeom_MindlinPhys_Mindlin()]),
+        PyRunner(command="after_contact_forces()", iterPeriod=1, initRun=True),  # also at iteration 0
+        NewtonIntegrator(damping=0.0, gravity=(0, 0, 0)),  # YADE's default damping is 0.2
+    ]
+    O.dt = run["dt"]
+    S.clear()
+    S.update(run=run, a=a, b=b, rows=[], two=run["geometry"] == "sphere-sphere")
+
+
+def after_contact_forces():
+    run, a, b = S["run"], S["a"], S["b"]
+    A = O.bodies[a].state
+    if S["two"]:
+        B = O.bodies[b].state
+        overlap = run["R1"] + run["R2"] - (B.pos[0] - A.pos[0])
+        rate_half = A.vel[0] - B.vel[0]
+    else:
+        overlap = run["R1"] + A.pos[0]
+        rate_half = A.vel[0]
+    if overlap > 0 and run["law"] != "default":
+        f_d = run["c"] * math.sqrt(overlap) * rate_half
+        if run["law"] == "viscoelastic_clipped" and O.interactions.has(a, b):
+            f_el = O.interactions[a, b].phys.kno * overlap ** 1.5
+            f_d = max(f_d, -f_el)
+        O.forces.addF(a, (-f_d, 0, 0))
+        if S["two"]:
+            O.forces.addF(b, (f_d, 0, 0))
+    force = -O.forces.f(a)[0]  # the repulsive normal force on A points to -x
+    rate_full = rate_half - force * O.dt / (2.0 * run["M"])
+    S["rows"].append("%.17g,%.17g,%.17g,%.17g" % (O.time, overlap, rate_full, force))
+
+
+status = {"engine_version": "YADE %s (%s)" % (yade.config.version, yade.config.highPrecisionName),
+          "runs": {}}
+for run in JOB["runs"]:
+    started = time.time()
+    try:
+        build(run)
+        O.run(int(run["steps"]), True)
+        # An exception inside a PyRunner stops O.run without stopping this script.
+        if O.iter != int(run["steps"]) or len(S["rows"]) != int(run["steps"]):
+            raise RuntimeError("stopped at iteration %d of %d with %d rows (error inside the step)" % (O.iter, run["steps"], len(S["rows"])))
+        with open(run["out"], "w") as f:
+            f.write("time,overlap,normal_velocity,normal_force\n")
+            f.write("\n".join(S["rows"]) + "\n")
+        status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
+    except Exception as err:  # report per run; the host fails that run with this log
+        status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
+        print("RUN FAILED %s: %s" % (run["name"], err))
+with open(JOB["status"], "w") as f:
+    json.dump(status, f, indent=1)

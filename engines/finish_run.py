@@ -1,0 +1,42 @@
+"""The last step of every engine run: check the engine's record and write the study dump."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from postprocess.collision_metrics import ExtractionError, collision_metrics
+from postprocess.dump_file import write_dump
+
+from .errors import EngineRunFailed
+from .run_spec import RunSpec
+
+
+def load_record(spec: RunSpec, raw: Path, log) -> np.ndarray:
+    """An engine's per-step record (time, overlap, normal velocity, normal force; one header
+    line) as an array, or EngineRunFailed."""
+    try:
+        data = np.loadtxt(raw, delimiter=None if raw.suffix == ".txt" else ",", skiprows=1, ndmin=2)
+    except (OSError, ValueError) as err:
+        raise EngineRunFailed(spec.name, f"unreadable engine record {raw}: {err}", log)
+    if data.shape[0] < 3 or data.shape[1] != 4:
+        raise EngineRunFailed(spec.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} columns", log)
+    return data
+
+
+def write_run_dump(spec: RunSpec, data: np.ndarray, dump: Path, log, meta: dict) -> Path:
+    """Check that `data` holds one complete, finite collision, then write the dump.
+
+    Raises EngineRunFailed (naming the engine log) for NaN, bodies that never touch or a
+    contact still open at the end; nothing is written then.
+    """
+    if not np.all(np.isfinite(data)):
+        row = int(np.nonzero(~np.all(np.isfinite(data), axis=1))[0][0])
+        raise EngineRunFailed(spec.name, f"the engine produced NaN or inf (record row {row + 1})", log)
+    try:
+        collision_metrics(*data.T, impact_velocity=spec.velocity)
+    except ExtractionError as err:
+        raise EngineRunFailed(spec.name, str(err), log)
+    write_dump(dump, {**meta, **spec.metadata()}, data)
+    return dump
