@@ -70,7 +70,8 @@ class RunSpec:
 
     @property
     def name(self) -> str:
-        name = f"{self.engine}-{self.law}-{self.pair.geometry}-V{self.velocity:.6e}-dt{self.time_step_factor:g}"
+        name = (f"{self.engine}-{self.law}-{self.pair.geometry}-K{self.K:.6g}-V{self.velocity:.6e}"
+                f"-dt{self.time_step_factor:g}")
         return name if self.matched_restitution is None else f"{name}-e{self.matched_restitution:.6f}"
 
     def initial_gap(self) -> float:

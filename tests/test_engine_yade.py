@@ -1,0 +1,103 @@
+"""YADE, run for real: the viscoelastic Hertz contact (added to Hertz-Mindlin) against the
+reference solver, the out-of-the-box law, and the errors for a missing engine, a crash, or a
+run that misses the collision. All runs of a test share one YADE process, as the study does."""
+
+import pytest
+
+from engine_cases import TOLERANCE, VELOCITY, relative_errors, require_engine, steel_pair
+from engines import EngineMissing, EngineRunFailed, RunSpec
+from engines import yade
+from postprocess.collision_metrics import collision_metrics
+from postprocess.dump_file import read_dump
+from reference import solve_collision
+
+GEOMETRIES = ("sphere-sphere", "sphere-plane")
+
+
+@pytest.fixture(autouse=True)
+def _needs_yade():
+    require_engine("yade", "yade")
+
+
+def metrics(path):
+    meta, c = read_dump(path)
+    return meta, collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
+                                   impact_velocity=meta["impact_velocity"])
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory):
+    require_engine("yade", "yade")
+    eps = solve_collision(0.1)["eps_F0"]
+    specs = [RunSpec("steel", "yade", law, steel_pair(g), VELOCITY)
+             for g in GEOMETRIES for law in ("viscoelastic", "viscoelastic_clipped")]
+    specs += [RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-sphere", K=0.0), VELOCITY)]
+    specs += [RunSpec("steel", "yade", "default", steel_pair(g), v, matched_restitution=eps)
+              for g in GEOMETRIES for v in (VELOCITY, 0.01 * VELOCITY)]
+    dumps = yade.run_yade(specs, tmp_path_factory.mktemp("yade"))
+    return {(s.law, s.pair.geometry, s.K > 0, s.velocity): (s, *metrics(d)) for s, d in zip(specs, dumps)}
+
+
+@pytest.mark.parametrize("geometry", GEOMETRIES)
+def test_viscoelastic_matches_reference_both_criteria(sweep, geometry):
+    spec, meta, m = sweep[("viscoelastic", geometry, True, VELOCITY)]
+    assert meta["engine"] == "yade" and meta["engine_version"].startswith("YADE 2023.02a")
+    assert len(meta["deck_sha256"]) == 64 and meta["represents"] == ["x0", "F0"]
+    assert m.samples_in_contact >= 200
+    for q, e in relative_errors(m, spec).items():
+        assert abs(e) < TOLERANCE, (q, e)
+
+
+@pytest.mark.parametrize("geometry", GEOMETRIES)
+def test_clipped_force_matches_reference_F0(sweep, geometry):
+    spec, meta, m = sweep[("viscoelastic_clipped", geometry, True, VELOCITY)]
+    errors = relative_errors(m, spec)
+    for q in ("A", "T_F0", "eps_F0"):
+        assert abs(errors[q]) < TOLERANCE, (q, errors[q])
+
+
+def test_elastic_contact_is_hertz(sweep):
+    spec, _, m = sweep[("viscoelastic", "sphere-sphere", False, VELOCITY)]
+    errors = relative_errors(m, spec)
+    assert abs(errors["eps_x0"]) < 1e-5
+    for q in ("A", "T_x0"):
+        assert abs(errors[q]) < 1e-4, (q, errors[q])
+
+
+@pytest.mark.parametrize("geometry", GEOMETRIES)
+def test_default_law_restitutes_what_the_user_asked_at_every_velocity(sweep, geometry):
+    """Hertz-Mindlin with en: eps_F0 ~ en (Thornton's fit, within 1e-3 here) at both velocities,
+    while the viscoelastic eps moves from 0.905 (K = 0.1) to 0.96 (K = 0.04)."""
+    asked = solve_collision(0.1)["eps_F0"]
+    fast = sweep[("default", geometry, True, VELOCITY)][2]
+    slow = sweep[("default", geometry, True, 0.01 * VELOCITY)][2]
+    assert fast.eps_F0 == pytest.approx(asked, abs=1e-3)
+    assert slow.eps_F0 == pytest.approx(fast.eps_F0, abs=1e-5)
+    assert solve_collision(0.1 * 0.01 ** 0.2)["eps_F0"] - slow.eps_F0 > 0.05
+
+
+def test_missing_engine_names_the_install_command(tmp_path):
+    spec = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
+    with pytest.raises(EngineMissing, match="apt-get install yade"):
+        yade.run_yade([spec], tmp_path, executable="yade-not-installed")
+
+
+def test_engine_crash_names_the_log(tmp_path, monkeypatch):
+    broken = tmp_path / "collisions.py"
+    broken.write_text(yade.DRIVER.read_text().replace("import json", "import json\nraise SystemExit(3)", 1))
+    monkeypatch.setattr(yade, "DRIVER", broken)
+    spec = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
+    with pytest.raises(EngineRunFailed, match=r"yade exited with status 3.*yade\.log"):
+        yade.run_yade([spec], tmp_path / "out")
+    assert not (tmp_path / "out" / f"{spec.name}.csv").exists()
+
+
+def test_run_that_never_touches_fails_and_others_still_land(tmp_path, monkeypatch):
+    good = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
+    short = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
+    real_steps = RunSpec.steps
+    monkeypatch.setattr(RunSpec, "steps", lambda self: 10 if self is short else real_steps(self))
+    with pytest.raises(EngineRunFailed, match="never touch"):
+        yade.run_yade([good, short], tmp_path)
+    assert (tmp_path / f"{good.name}.csv").exists()
+    assert not (tmp_path / f"{short.name}.csv").exists()
