@@ -24,7 +24,10 @@ from contact_model import ContactPair
 from reference import HERTZ_TAU, solve_collision
 
 LAWS = ("viscoelastic", "viscoelastic_clipped", "default")
-CRITERIA_OF_LAW = {"viscoelastic": ("x0", "F0"), "viscoelastic_clipped": ("F0",), "default": ("x0", "F0")}
+ENGINES = ("liggghts", "yade")
+#: The criterion an engine's default law stands for: LIGGGHTS keeps the attractive tail
+#: (limitForce off by default), YADE's Hertz-Mindlin clips the force at zero.
+DEFAULT_LAW_CRITERION = {"liggghts": "x0", "yade": "F0"}
 
 #: Steps of free flight before contact and after separation.
 GAP_STEPS = 20
@@ -45,6 +48,8 @@ class RunSpec:
     extra: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self):
+        if self.engine not in ENGINES:
+            raise ValueError(f"unknown engine {self.engine!r}; known: {ENGINES}")
         if self.law not in LAWS:
             raise ValueError(f"unknown contact law {self.law!r}; known: {LAWS}")
         if not (self.velocity > 0 and math.isfinite(self.velocity)):
@@ -66,7 +71,12 @@ class RunSpec:
 
     @property
     def represents(self) -> tuple[str, ...]:
-        return CRITERIA_OF_LAW[self.law]
+        """The end-of-collision criteria this run's trajectory stands for."""
+        if self.law == "viscoelastic":
+            return ("x0", "F0")  # the tail is kept: one trajectory, both ends
+        if self.law == "viscoelastic_clipped":
+            return ("F0",)
+        return (DEFAULT_LAW_CRITERION[self.engine],)
 
     @property
     def name(self) -> str:

@@ -17,7 +17,7 @@ def _needs_liggghts():
 
 def run(tmp_path, geometry, law="viscoelastic", K=0.1, **kw):
     spec = RunSpec("steel", "liggghts", law, steel_pair(geometry, K), VELOCITY, **kw)
-    meta, cols = read_dump(liggghts.run_liggghts(spec, tmp_path))
+    meta, cols = read_dump(liggghts.run_liggghts([spec], tmp_path)[0])
     return spec, meta, collision_metrics(*(cols[c] for c in ("time", "overlap", "normal_velocity", "normal_force")),
                                          impact_velocity=VELOCITY)
 
@@ -55,7 +55,7 @@ def test_elastic_contact_is_hertz(tmp_path):
 def test_missing_engine_names_the_install_command(tmp_path):
     spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
     with pytest.raises(EngineMissing, match="apt-get install liggghts"):
-        liggghts.run_liggghts(spec, tmp_path, executable="liggghts-not-installed")
+        liggghts.run_liggghts([spec], tmp_path, executable="liggghts-not-installed")
 
 
 def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path, monkeypatch):
@@ -68,15 +68,29 @@ def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path, monkeypatch):
     monkeypatch.setattr(liggghts, "DECKS", broken)
     spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
     with pytest.raises(EngineRunFailed) as err:
-        liggghts.run_liggghts(spec, tmp_path / "out")
-    assert "exited with status" in str(err.value) and ".liggghts.log" in str(err.value)
+        liggghts.run_liggghts([spec], tmp_path / "out")
+    assert "exited with status" in str(err.value) and "liggghts.log" in str(err.value)
+    assert err.value.run_name == spec.name
     assert not (tmp_path / "out" / f"{spec.name}.csv").exists()
 
 
 @pytest.mark.parametrize("steps, words", [(10, "never touch"), (200, "still open")])
 def test_runs_that_miss_the_collision_fail(tmp_path, monkeypatch, steps, words):
-    monkeypatch.setattr(RunSpec, "steps", lambda self: steps)
+    real_steps = RunSpec.steps
+    monkeypatch.setattr(RunSpec, "steps", lambda self: steps if self.pair.geometry == "sphere-sphere" else real_steps(self))
     spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
+    good = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
     with pytest.raises(EngineRunFailed, match=words):
-        liggghts.run_liggghts(spec, tmp_path)
+        liggghts.run_liggghts([spec, good], tmp_path)
     assert not (tmp_path / f"{spec.name}.csv").exists()
+    assert (tmp_path / f"{good.name}.csv").exists()
+
+
+def test_a_sweep_in_one_process_equals_solo_runs(tmp_path):
+    """`clear` between runs leaves nothing behind: the dumps' data are identical to solo runs."""
+    specs = [RunSpec("steel", "liggghts", law, steel_pair(g), VELOCITY, matched_restitution=0.9 if law == "default" else None)
+             for g in ("sphere-plane", "sphere-sphere") for law in ("default", "viscoelastic")]
+    swept = liggghts.run_liggghts(specs, tmp_path / "sweep")
+    solo = liggghts.run_liggghts(specs[-1:], tmp_path / "solo")
+    assert read_dump(swept[-1])[1]["overlap"].tolist() == read_dump(solo[0])[1]["overlap"].tolist()
+    assert read_dump(swept[-1])[1]["normal_force"].tolist() == read_dump(solo[0])[1]["normal_force"].tolist()

@@ -1,0 +1,90 @@
+"""One engine run beside the reference solver and the paper's series: the rows of summary.csv.
+
+A run gives one row per criterion it represents (see `engines.run_spec.RunSpec.represents`).
+For criterion c the engine's values are
+
+    T = T_c,  A = pi R* delta_max,  eps = eps_c,  Q1 = A^{1/2} T^2,  Q2 = A / (sqrt(V V') T), V' = eps V,
+
+the reference values are the same from the ODE solution at the run's K (times the Hertz scales
+of the run), and the series values are the paper's truncated series (eqs. 4-7) times the same
+scales. Relative errors: engine vs reference (err_*) and series vs reference (series_err_*).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from reference import HERTZ_TAU, paper_series_value, solve_collisions
+from reference.series import load_paper_series
+
+from .collision_metrics import CollisionMetrics
+
+QUANTITIES = ("T", "A", "eps", "Q1", "Q2")
+_SERIES_NAME = {"T": "T/T_e", "A": "A/A_e", "eps": "eps", "Q1": "Q1/Q1e", "Q2": "Q2/Q2e"}
+
+
+def measured(T: float, A: float, eps: float, V: float) -> dict[str, float]:
+    """T, A, eps plus Q1 = A^{1/2} T^2 and Q2 = A / (sqrt(V eps V) T) (SI)."""
+    return {"T": T, "A": A, "eps": eps, "Q1": math.sqrt(A) * T**2, "Q2": A / (math.sqrt(eps) * V * T)}
+
+
+def hertz_Q(T_e: float, A_e: float, V: float) -> dict[str, float]:
+    """Q1e = A_e^{1/2} T_e^2 and Q2e = A_e / (V T_e)."""
+    return {"Q1": math.sqrt(A_e) * T_e**2, "Q2": A_e / (V * T_e)}
+
+
+def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None = None,
+                    series=None) -> list[dict]:
+    """The summary rows of one run. `meta` is its dump header; `reference_row` may be passed
+    to reuse a solution of the ODE at the run's K."""
+    K, V = meta["K"], meta["impact_velocity"]
+    T_e, A_e, delta_e, R = meta["T_e"], meta["A_e"], meta["delta_e"], meta["effective_radius"]
+    r = reference_row or solve_collisions([K]).row(0)
+    series = load_paper_series() if series is None else series
+    Qe = hertz_Q(T_e, A_e, V)
+    scale = {"T": T_e, "A": A_e, "eps": 1.0, **Qe}
+    paper = {q: float(paper_series_value(_SERIES_NAME[q], K, series)) * scale[q] for q in QUANTITIES}
+    rows = []
+    for criterion in meta["represents"]:
+        T_eng = m.T_x0 if criterion == "x0" else m.T_F0
+        eps_eng = m.eps_x0 if criterion == "x0" else m.eps_F0
+        engine = measured(T_eng, math.pi * R * m.delta_max, eps_eng, V)
+        tau = r["tau_0"] if criterion == "x0" else r["tau_f"]
+        eps_ref = r["eps_x0"] if criterion == "x0" else r["eps_F0"]
+        ref = measured(tau / HERTZ_TAU * T_e, r["x_max"] * A_e, eps_ref, V)
+        row = {
+            "case": meta["case"], "engine": meta["engine"], "engine_version": meta["engine_version"],
+            "law": meta["law"], "geometry": meta["geometry"], "criterion": criterion,
+            "V": V, "K": K, "dt": meta["time_step"], "T_e": T_e, "A_e": A_e, "Q1e": Qe["Q1"], "Q2e": Qe["Q2"],
+            "samples_in_contact": m.samples_in_contact,
+        }
+        for q in QUANTITIES:
+            row[q] = engine[q]
+            row[f"{q}_ref"] = ref[q]
+            row[f"{q}_series"] = paper[q]
+        for q in QUANTITIES:
+            row[f"err_{q}"] = engine[q] / ref[q] - 1.0
+        for q in QUANTITIES:
+            row[f"series_err_{q}"] = paper[q] / ref[q] - 1.0
+        if "matched_restitution" in meta:
+            row["matched_restitution"] = meta["matched_restitution"]
+        rows.append(row)
+    return rows
+
+
+def largest_errors(table, quantities=("T", "A", "eps")):
+    """Largest |relative error| per engine x law x geometry x criterion x quantity (a DataFrame
+    with columns engine, law, geometry, criterion, quantity, max_abs_error, at_K, case)."""
+    import pandas as pd
+
+    out = []
+    for keys, group in table.groupby(["engine", "law", "geometry", "criterion"], sort=True):
+        for q in quantities:
+            errors = np.abs(group[f"err_{q}"].to_numpy())
+            i = int(np.argmax(errors))
+            out.append({**dict(zip(["engine", "law", "geometry", "criterion"], keys)), "quantity": q,
+                        "max_abs_error": float(errors[i]), "at_K": float(group["K"].iloc[i]),
+                        "case": group["case"].iloc[i]})
+    return pd.DataFrame(out)
