@@ -1,15 +1,107 @@
-"""The Hertz DEM validation study. `snakemake -j2 all` runs it; results go to results/."""
+"""The viscoelastic Hertz validation study.
+
+    snakemake -j2 all                 every case, both engines, the report; fails if a tolerance fails
+    snakemake -j2 steel               one case (any file name in cases/ without .yaml)
+    snakemake -j2 results/steel/summary.csv
+
+Settings: config/config.yaml (validated against config/config.schema.yaml). Logs: logs/,
+benchmarks: benchmarks/<case>/<engine>.tsv, results: results/.
+"""
+
+import glob
+import os
+from pathlib import Path
 
 from snakemake.utils import validate
 
 configfile: "config/config.yaml"
 validate(config, "config/config.schema.yaml")
 
+# The workflow's scripts import the project's packages and workflow/scripts/common.py.
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    [workflow.basedir, f"{workflow.basedir}/workflow/scripts", os.environ.get("PYTHONPATH", "")])
+
+from contact_model import load_case  # noqa: E402
+
+
+def case_files():
+    patterns = [config["cases"]] if isinstance(config["cases"], str) else config["cases"]
+    files = sorted({f for p in patterns for f in glob.glob(p)})
+    if not files:
+        raise ValueError(f"config 'cases': no case file matches {config['cases']!r}")
+    return {Path(f).stem: f for f in files}
+
+
+CASES = case_files()
+# Every case is validated here, before any job (let alone an engine) starts: a malformed case
+# stops the workflow with the file and the field named.
+for _path in CASES.values():
+    load_case(_path)
+
+ENGINES = config["engines"]
+DECKS = {"liggghts": sorted(glob.glob("cases/decks/liggghts/*.in")), "yade": ["cases/decks/yade/collisions.py"]}
+SETTINGS = {k: config[k] for k in ("engines", "laws", "K_grid", "time_step_factor", "default_law_match_K",
+                                   "max_overlap_ratio")}
+
+wildcard_constraints:
+    case="|".join(CASES),
+    engine="|".join(ENGINES),
+
 
 rule all:
     input:
+        "results/gate.txt",
+        "results/report.md",
+        "results/report.html",
+        "results/summary.csv",
         "results/reference/collisions.csv",
-        "results/reference/series.csv",
+
+
+# One target per case: `snakemake -j2 steel`.
+for _case in CASES:
+    rule:
+        name: _case
+        input: f"results/{_case}/summary.csv"
+
+
+rule plan:
+    """The case's runs, checked and listed (results/<case>/plan.json)."""
+    input: case=lambda w: CASES[w.case]
+    output: "results/{case}/plan.json"
+    log: "logs/{case}/plan.log"
+    params: settings=SETTINGS
+    script: "workflow/scripts/plan_case.py"
+
+
+rule run_engine:
+    """Every run of one case in one engine process; one dump per run."""
+    input:
+        plan="results/{case}/plan.json",
+        case=lambda w: CASES[w.case],
+        decks=lambda w: DECKS[w.engine],
+    output: manifest="results/{case}/{engine}/manifest.json"
+    log: "logs/{case}/{engine}.log"
+    benchmark: "benchmarks/{case}/{engine}.tsv"
+    params: settings=SETTINGS
+    threads: 1
+    resources: runtime=30, mem_mb=2000
+    script: "workflow/scripts/run_engine.py"
+
+
+rule case_summary:
+    """The case's runs beside the reference solver and the paper's series."""
+    input: manifests=expand("results/{{case}}/{engine}/manifest.json", engine=ENGINES)
+    output: "results/{case}/summary.csv"
+    log: "logs/{case}/summary.log"
+    resources: runtime=10, mem_mb=2000
+    script: "workflow/scripts/case_summary.py"
+
+
+rule summary:
+    input: expand("results/{case}/summary.csv", case=CASES)
+    output: "results/summary.csv"
+    log: "logs/summary.log"
+    script: "workflow/scripts/study_summary.py"
 
 
 rule reference_table:
@@ -27,3 +119,26 @@ rule series:
     log: "logs/series.log"
     params: order=config["reference"]["series_order"]
     script: "workflow/scripts/series_table.py"
+
+
+rule report:
+    """results/report.md and .html, the plots, and the verdict."""
+    input:
+        summary="results/summary.csv",
+        series="results/reference/series.csv",
+        manifests=expand("results/{case}/{engine}/manifest.json", case=CASES, engine=ENGINES),
+    output:
+        md="results/report.md",
+        html="results/report.html",
+        verdict="results/verdict.json",
+    log: "logs/report.log"
+    params: tolerance=config["tolerance"]
+    script: "workflow/scripts/report.py"
+
+
+rule gate:
+    """The last step: exits non-zero, naming them, when an engine exceeds a tolerance."""
+    input: verdict="results/verdict.json"
+    output: "results/gate.txt"
+    log: "logs/gate.log"
+    script: "workflow/scripts/gate.py"

@@ -8,8 +8,9 @@ Two ways to describe the bodies (see cases/README.md for the full format):
 2. Explicit ``bodies``: a list of two, the first a sphere ``{radius, density, young, poisson}``,
    the second a sphere or a plane ``{plane: true, young, poisson}`` / ``{plane: rigid}``.
 
-Both need ``viscosity`` (the effective eta) and an ``impact`` block: ``K`` (a list of target
-dissipation parameters) or ``velocity`` (a list of impact velocities). Quantities carry their
+Both need ``viscosity`` (the effective eta). An optional ``impact`` block gives ``K`` (a list of
+target dissipation parameters) or ``velocity`` (a list of impact velocities); without it the
+study's K grid (config/config.yaml) applies. Quantities carry their
 units as strings ("109 GPa", "6.7e5 P", "0.635 cm", "7800 kg/m^3", "1 m/s"), converted with pint.
 Every error names the file and the field.
 """
@@ -64,11 +65,12 @@ class Case:
                 return p
         raise KeyError(f"case {self.name!r} has no {geometry} contact")
 
-    def impact_velocities(self, pair: ContactPair) -> list[float]:
-        """The impact velocities [m/s] of this case for one of its pairs."""
+    def impact_velocities(self, pair: ContactPair, K_grid=()) -> list[float]:
+        """The impact velocities [m/s] of this case for one of its pairs: its own velocities,
+        or those giving its own K list, or those giving `K_grid` (the study's)."""
         if self.velocities:
             return list(self.velocities)
-        return [pair.velocity_for_dissipation(k) for k in self.K]
+        return [pair.velocity_for_dissipation(k) for k in (self.K or tuple(K_grid))]
 
 
 def quantity(value, name: str, path) -> float:
@@ -132,7 +134,9 @@ def _body(spec, index: int, path) -> Body:
 
 
 def _impact(data: dict, path) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    impact = _require(data, "impact", "", path)
+    if "impact" not in data:
+        return (), ()  # the study's K grid applies
+    impact = data["impact"]
     if not isinstance(impact, dict) or len(set(impact) & {"K", "velocity"}) != 1:
         raise CaseError(path, "impact", "give exactly one of 'K' (a list) or 'velocity' (a list)")
     if "K" in impact:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -40,3 +41,28 @@ def write_run_dump(spec: RunSpec, data: np.ndarray, dump: Path, log, meta: dict)
         raise EngineRunFailed(spec.name, str(err), log)
     write_dump(dump, {**meta, **spec.metadata()}, data)
     return dump
+
+
+@dataclass
+class Sweep:
+    """What an engine process made of a list of runs: a dump or a failure for each run.
+
+    `engine_seconds` is the wall time of the engine process itself.
+    """
+
+    dumps: dict[str, Path] = field(default_factory=dict)
+    failures: dict[str, EngineRunFailed] = field(default_factory=dict)
+    engine_seconds: float = 0.0
+
+    def raise_first(self) -> "Sweep":
+        """Raise the first failure, if any; otherwise return self."""
+        if self.failures:
+            raise next(iter(self.failures.values()))
+        return self
+
+    def finish(self, spec: RunSpec, make_dump) -> None:
+        """Record make_dump()'s path for spec, or its EngineRunFailed."""
+        try:
+            self.dumps[spec.name] = make_dump()
+        except EngineRunFailed as err:
+            self.failures[spec.name] = err

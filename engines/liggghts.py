@@ -9,13 +9,14 @@ from __future__ import annotations
 import hashlib
 import re
 import subprocess
+import time
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
 from .errors import EngineRunFailed, require_executable
-from .finish_run import load_record, write_run_dump
+from .finish_run import Sweep, load_record, write_run_dump
 from .run_spec import RunSpec
 
 EXECUTABLE = "liggghts"
@@ -109,21 +110,21 @@ def _run_in_progress(log: Path, specs: list[RunSpec]) -> str:
     return names[-1] if names else specs[0].name
 
 
-def run_liggghts(specs: list[RunSpec], workdir, executable: str = EXECUTABLE) -> list[Path]:
+def run_liggghts(specs: list[RunSpec], workdir, executable: str = EXECUTABLE) -> Sweep:
     """Run collisions in one LIGGGHTS process; write `workdir/<spec.name>.csv` for each.
 
     LIGGGHTS needs ~0.4 s to start and ~0.02 s per collision, so a sweep shares one process
-    (`clear` between runs; a run's dump is byte-identical to a solo run's, see the tests).
-    Raises EngineMissing if LIGGGHTS is not installed, EngineRunFailed (with the log path) if
-    it fails, produces NaN, or the bodies never touch or are still in contact at the end;
-    dumps of the runs that succeeded are kept.
+    (`clear` between runs; a run's dump is identical to a solo run's, see the tests).
+    Raises EngineMissing if LIGGGHTS is not installed. A run that fails (an engine error, NaN,
+    bodies that never touch or are still in contact at the end) is an EngineRunFailed with
+    the log path in the returned `Sweep`; when LIGGGHTS stops, the runs after it fail too.
     """
     if any(s.engine != "liggghts" for s in specs):
         raise ValueError("run_liggghts got runs for another engine")
     if len({s.name for s in specs}) != len(specs):
         raise ValueError("run_liggghts got two runs with the same name")
     exe = require_executable("liggghts", executable)
-    workdir = Path(workdir)
+    workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     log = workdir / "liggghts.log"
     raws = {s.name: workdir / f"{s.name}.liggghts.txt" for s in specs}
@@ -133,30 +134,39 @@ def run_liggghts(specs: list[RunSpec], workdir, executable: str = EXECUTABLE) ->
     master = workdir / "liggghts-sweep.in"
     master.write_text(master_deck(specs, raws))
     cmd = [exe, "-in", str(master), "-log", str(log), "-screen", "none"]
+    sweep = Sweep()
+    started = time.perf_counter()
     try:
         done = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=TIMEOUT_S,
                               stdin=subprocess.DEVNULL)
+        stop = None if done.returncode == 0 else f"liggghts exited with status {done.returncode}: {_last_error(log)}"
     except subprocess.TimeoutExpired:
-        raise EngineRunFailed(_run_in_progress(log, specs), f"liggghts did not finish within {TIMEOUT_S} s", log)
-    if done.returncode != 0:
-        raise EngineRunFailed(_run_in_progress(log, specs),
-                              f"liggghts exited with status {done.returncode}: {_last_error(log)}", log)
+        stop = f"liggghts did not finish within {TIMEOUT_S} s"
+    sweep.engine_seconds = time.perf_counter() - started
+    stopped_in = _run_in_progress(log, specs) if stop else None
     version = liggghts_version(executable)
-    dumps, failures = [], []
+    reached_stop = False
     for spec in specs:
-        try:
-            data = load_record(spec, raws[spec.name], log)
-            # fix print starts at step 1: prepend the initial state (free flight, no force).
-            v1, v2 = spec.initial_velocities()
-            data = np.vstack([[0.0, -spec.initial_gap(), v1 - v2, 0.0], data])
-            variables = deck_variables(spec, raws[spec.name])
-            meta = {"engine": "liggghts", "engine_version": version,
-                    "deck": DECK_OF_GEOMETRY[spec.pair.geometry], "deck_sha256": deck_hash(spec),
-                    "engine_variables": {k: v for k, v in variables.items() if k != "out"}}
-            dumps.append(write_run_dump(spec, data, workdir / f"{spec.name}.csv", log, meta))
-            raws[spec.name].unlink()
-        except EngineRunFailed as err:
-            failures.append(err)
-    if failures:
-        raise failures[0]
-    return dumps
+        if spec.name == stopped_in:
+            reached_stop = True
+            sweep.failures[spec.name] = EngineRunFailed(spec.name, stop, log)
+            continue
+        if reached_stop:
+            sweep.failures[spec.name] = EngineRunFailed(spec.name, f"not run: liggghts stopped in {stopped_in}", log)
+            continue
+        sweep.finish(spec, lambda: _liggghts_dump(spec, raws[spec.name], workdir, log, version))
+    return sweep
+
+
+def _liggghts_dump(spec: RunSpec, raw: Path, workdir: Path, log: Path, version: str) -> Path:
+    data = load_record(spec, raw, log)
+    # fix print starts at step 1: prepend the initial state (free flight, no force).
+    v1, v2 = spec.initial_velocities()
+    data = np.vstack([[0.0, -spec.initial_gap(), v1 - v2, 0.0], data])
+    variables = deck_variables(spec, raw)
+    meta = {"engine": "liggghts", "engine_version": version,
+            "deck": DECK_OF_GEOMETRY[spec.pair.geometry], "deck_sha256": deck_hash(spec),
+            "engine_variables": {k: v for k, v in variables.items() if k != "out"}}
+    dump = write_run_dump(spec, data, workdir / f"{spec.name}.csv", log, meta)
+    raw.unlink()
+    return dump

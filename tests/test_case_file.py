@@ -108,8 +108,28 @@ def test_unreadable_and_malformed_files(tmp_path):
         load_case(write(tmp_path, "- 1\n- 2\n"))
 
 
-def test_shipped_cases_load():
+TABLE_1 = {  # the paper's Table 1: E* [GPa], R [cm], eta [1e5 poise]
+    "steel": (109, 0.635, 6.7), "brass": (62, 0.75, 15.4), "cork": (0.025, 0.83, 0.25),
+    "ice": (5.5, 2.6, 9.62), "jaques_ball": (0.13, 4.6, 1.47),
+}
+
+
+def test_shipped_cases_are_table_1():
     from pathlib import Path
-    for path in sorted((Path(__file__).resolve().parents[1] / "cases").glob("*.yaml")):
-        case = load_case(path)
-        assert case.pairs and (case.K or case.velocities)
+    folder = Path(__file__).resolve().parents[1] / "cases"
+    for name, (E, R, eta) in TABLE_1.items():
+        case = load_case(folder / f"{name}.yaml")
+        assert [p.geometry for p in case.pairs] == ["sphere-sphere", "sphere-plane"]
+        for p in case.pairs:
+            assert p.E == pytest.approx(E * 1e9, rel=1e-15)
+            assert p.body_1.radius == pytest.approx(R * 1e-2, rel=1e-15)
+            assert p.eta == pytest.approx(eta * 1e5 * 0.1, rel=1e-15)  # 1 P = 0.1 Pa s
+        assert case.extra.get("density_source"), name
+        assert not case.K and not case.velocities  # the study's K grid applies
+
+
+def test_case_without_impact_uses_the_study_grid(tmp_path):
+    case = load_case(write(tmp_path, GOOD.split("impact:")[0]))
+    pair = case.pair("sphere-plane")
+    vs = case.impact_velocities(pair, K_grid=(0.1, 0.2))
+    assert [pair.dissipation_parameter(v) for v in vs] == pytest.approx([0.1, 0.2], rel=1e-13)

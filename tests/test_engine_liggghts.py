@@ -17,7 +17,7 @@ def _needs_liggghts():
 
 def run(tmp_path, geometry, law="viscoelastic", K=0.1, **kw):
     spec = RunSpec("steel", "liggghts", law, steel_pair(geometry, K), VELOCITY, **kw)
-    meta, cols = read_dump(liggghts.run_liggghts([spec], tmp_path)[0])
+    meta, cols = read_dump(liggghts.run_liggghts([spec], tmp_path).raise_first().dumps[spec.name])
     return spec, meta, collision_metrics(*(cols[c] for c in ("time", "overlap", "normal_velocity", "normal_force")),
                                          impact_velocity=VELOCITY)
 
@@ -61,17 +61,22 @@ def test_missing_engine_names_the_install_command(tmp_path):
 def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path, monkeypatch):
     broken = tmp_path / "decks"
     broken.mkdir()
-    for name in ("sphere_plane.in", "properties_viscoelastic.in"):
-        (broken / name).write_text((liggghts.DECKS / name).read_text())
+    for deck in liggghts.DECKS.glob("*.in"):
+        (broken / deck.name).write_text(deck.read_text())
     deck = broken / "sphere_plane.in"
     deck.write_text(deck.read_text().replace("atom_style      granular", "atom_style      nonsense"))
     monkeypatch.setattr(liggghts, "DECKS", broken)
     spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
-    with pytest.raises(EngineRunFailed) as err:
-        liggghts.run_liggghts([spec], tmp_path / "out")
-    assert "exited with status" in str(err.value) and "liggghts.log" in str(err.value)
-    assert err.value.run_name == spec.name
+    before = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
+    after = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere", K=0.2), VELOCITY)
+    sweep = liggghts.run_liggghts([before, spec, after], tmp_path / "out")
+    assert list(sweep.dumps) == [before.name]  # the run before the crash landed
+    err = sweep.failures[spec.name]
+    assert "exited with status" in str(err) and "liggghts.log" in str(err) and "Invalid atom style" in str(err)
+    assert "not run: liggghts stopped in" in str(sweep.failures[after.name])
     assert not (tmp_path / "out" / f"{spec.name}.csv").exists()
+    with pytest.raises(EngineRunFailed):
+        sweep.raise_first()
 
 
 @pytest.mark.parametrize("steps, words", [(10, "never touch"), (200, "still open")])
@@ -81,7 +86,7 @@ def test_runs_that_miss_the_collision_fail(tmp_path, monkeypatch, steps, words):
     spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
     good = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
     with pytest.raises(EngineRunFailed, match=words):
-        liggghts.run_liggghts([spec, good], tmp_path)
+        liggghts.run_liggghts([spec, good], tmp_path).raise_first()
     assert not (tmp_path / f"{spec.name}.csv").exists()
     assert (tmp_path / f"{good.name}.csv").exists()
 
@@ -90,7 +95,7 @@ def test_a_sweep_in_one_process_equals_solo_runs(tmp_path):
     """`clear` between runs leaves nothing behind: the dumps' data are identical to solo runs."""
     specs = [RunSpec("steel", "liggghts", law, steel_pair(g), VELOCITY, matched_restitution=0.9 if law == "default" else None)
              for g in ("sphere-plane", "sphere-sphere") for law in ("default", "viscoelastic")]
-    swept = liggghts.run_liggghts(specs, tmp_path / "sweep")
-    solo = liggghts.run_liggghts(specs[-1:], tmp_path / "solo")
-    assert read_dump(swept[-1])[1]["overlap"].tolist() == read_dump(solo[0])[1]["overlap"].tolist()
-    assert read_dump(swept[-1])[1]["normal_force"].tolist() == read_dump(solo[0])[1]["normal_force"].tolist()
+    swept = liggghts.run_liggghts(specs, tmp_path / "sweep").raise_first().dumps[specs[-1].name]
+    solo = liggghts.run_liggghts(specs[-1:], tmp_path / "solo").raise_first().dumps[specs[-1].name]
+    assert read_dump(swept)[1]["overlap"].tolist() == read_dump(solo)[1]["overlap"].tolist()
+    assert read_dump(swept)[1]["normal_force"].tolist() == read_dump(solo)[1]["normal_force"].tolist()

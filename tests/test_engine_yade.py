@@ -34,7 +34,8 @@ def sweep(tmp_path_factory):
     specs += [RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-sphere", K=0.0), VELOCITY)]
     specs += [RunSpec("steel", "yade", "default", steel_pair(g), v, matched_restitution=eps)
               for g in GEOMETRIES for v in (VELOCITY, 0.01 * VELOCITY)]
-    dumps = yade.run_yade(specs, tmp_path_factory.mktemp("yade"))
+    sweep = yade.run_yade(specs, tmp_path_factory.mktemp("yade")).raise_first()
+    dumps = [sweep.dumps[s.name] for s in specs]
     return {(s.law, s.pair.geometry, s.K > 0, s.velocity): (s, *metrics(d)) for s, d in zip(specs, dumps)}
 
 
@@ -88,7 +89,7 @@ def test_engine_crash_names_the_log(tmp_path, monkeypatch):
     monkeypatch.setattr(yade, "DRIVER", broken)
     spec = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
     with pytest.raises(EngineRunFailed, match=r"yade exited with status 3.*yade\.log"):
-        yade.run_yade([spec], tmp_path / "out")
+        yade.run_yade([spec], tmp_path / "out").raise_first()
     assert not (tmp_path / "out" / f"{spec.name}.csv").exists()
 
 
@@ -98,6 +99,6 @@ def test_run_that_never_touches_fails_and_others_still_land(tmp_path, monkeypatc
     real_steps = RunSpec.steps
     monkeypatch.setattr(RunSpec, "steps", lambda self: 10 if self is short else real_steps(self))
     with pytest.raises(EngineRunFailed, match="never touch"):
-        yade.run_yade([good, short], tmp_path)
+        yade.run_yade([good, short], tmp_path).raise_first()
     assert (tmp_path / f"{good.name}.csv").exists()
     assert not (tmp_path / f"{short.name}.csv").exists()

@@ -1,0 +1,256 @@
+"""The comparison report: results/report.md (read by people and CI), report.html, the plots, and
+a verdict (results/verdict.json) that the workflow's last step gates on.
+
+Only the viscoelastic laws are gated (the model under test); the out-of-the-box laws and the
+paper's series are compared, not gated: where they depart from the reference, that is a finding.
+"""
+
+from __future__ import annotations
+
+import json
+from datetime import datetime, timezone
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
+
+from .comparison import largest_errors  # noqa: E402
+
+GATED_LAWS = ("viscoelastic", "viscoelastic_clipped")
+GATED_QUANTITIES = ("T", "A", "eps")
+RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
+         "Q1": ("Q1/Q1e", "Q1e"), "Q2": ("Q2/Q2e", "Q2e")}
+MARKERS = {("liggghts", "sphere-sphere"): "o", ("liggghts", "sphere-plane"): "s",
+           ("yade", "sphere-sphere"): "^", ("yade", "sphere-plane"): "v"}
+COLORS = {"liggghts": "tab:blue", "yade": "tab:red"}
+# LIGGGHTS large and hollow, YADE small and filled: where the engines agree both stay visible.
+SIZE = {"liggghts": 9, "yade": 4}
+
+
+def verdict(table: pd.DataFrame, tolerance: dict) -> pd.DataFrame:
+    """Largest |error| per engine x gated law x geometry x criterion x quantity, with pass/fail."""
+    gated = table[table.law.isin(GATED_LAWS)]
+    worst = largest_errors(gated, GATED_QUANTITIES)
+    worst["tolerance"] = worst.quantity.map(tolerance)
+    worst["pass"] = worst.max_abs_error <= worst.tolerance
+    return worst
+
+
+def _ratio(table, q):
+    name, scale = RATIO[q]
+    return table[q] / (table[scale] if isinstance(scale, str) else scale)
+
+
+def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, K_max: float) -> None:
+    """eps, T/T_e, A/A_e, Q1/Q1e, Q2/Q2e against K: engines as markers, the reference solver
+    as a line, the paper's series dashed."""
+    K = np.linspace(0.0, K_max, 200)
+    ref = hertz_ratios(solve_collisions(K), criterion)
+    runs = table[(table.criterion == criterion) & table.law.isin(GATED_LAWS)]
+    fig, axes = plt.subplots(1, 5, figsize=(20, 4.2))
+    for ax, q in zip(axes, RATIO):
+        name = RATIO[q][0]
+        ax.plot(K, ref[name], "k-", lw=1.5, label="reference ODE")
+        ax.plot(K, paper_series_value(name, K), "k--", lw=1, label="paper's series")
+        for (engine, geometry), marker in MARKERS.items():
+            sel = runs[(runs.engine == engine) & (runs.geometry == geometry)]
+            if len(sel):
+                ax.plot(sel.K, _ratio(sel, q), marker, ms=SIZE[engine],
+                        mfc="none" if engine == "liggghts" else COLORS[engine], color=COLORS[engine],
+                        label=f"{engine}, {geometry}")
+        ax.set_xlabel("K")
+        ax.set_title(name)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.suptitle(f"Criterion {criterion}: every engine run of every case (viscoelastic laws)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path) -> None:
+    """|relative error| against K per quantity, engines as markers, the tolerance as a line."""
+    runs = table[table.law.isin(GATED_LAWS)]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
+    for ax, q in zip(axes, GATED_QUANTITIES):
+        for (engine, geometry), marker in MARKERS.items():
+            for criterion, fill in (("x0", "none"), ("F0", None)):
+                sel = runs[(runs.engine == engine) & (runs.geometry == geometry) & (runs.criterion == criterion)]
+                if len(sel):
+                    ax.semilogy(sel.K, np.abs(sel[f"err_{q}"]).clip(lower=1e-12), marker, mfc=fill,
+                                color=COLORS[engine], ms=SIZE[engine], label=f"{engine}, {geometry}, {criterion}")
+        ax.axhline(tolerance[q], color="k", ls=":", label="tolerance")
+        ax.set_xlabel("K")
+        ax.set_title(f"|{q}_engine / {q}_reference - 1|")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_default_laws(table: pd.DataFrame, path: Path, K_max: float) -> None:
+    """The out-of-the-box laws against the viscoelastic reference: eps and T/T_e against K."""
+    runs = table[table.law == "default"]
+    K = np.linspace(0.0, K_max, 200)
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
+    for ax, q in zip(axes, ("eps", "T", "A")):
+        name = RATIO[q][0]
+        for criterion, ls in (("x0", "-"), ("F0", "-.")):
+            ax.plot(K, hertz_ratios(solve_collisions(K), criterion)[name], "k", ls=ls, lw=1,
+                    label=f"viscoelastic reference, {criterion}")
+        for (engine, geometry), marker in MARKERS.items():
+            sel = runs[(runs.engine == engine) & (runs.geometry == geometry)]
+            if len(sel):
+                crit = sel.criterion.iloc[0]
+                ax.plot(sel.K, _ratio(sel, q), marker, color=COLORS[engine], ms=SIZE[engine],
+                        mfc="none" if engine == "liggghts" else COLORS[engine],
+                        label=f"{engine} default, {geometry} ({crit})")
+        ax.set_xlabel("K of the viscoelastic model at that velocity")
+        ax.set_title(name)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.suptitle("Out-of-the-box laws (restitution matched once) against the viscoelastic model")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:
+    cols = list(df.columns)
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    for row in df.itertuples(index=False):
+        cells = [format(v, floatfmt) if isinstance(v, float) else str(v) for v in row]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def findings(table: pd.DataFrame, worst: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
+    """Short statements computed from the results (numbers, not adjectives)."""
+    out = []
+    gated = table[table.law.isin(GATED_LAWS)]
+    if len(gated):
+        e = np.abs(gated[[f"err_{q}" for q in GATED_QUANTITIES]].to_numpy())
+        out.append(f"The viscoelastic runs ({len(gated)} run x criterion rows) agree with the reference solver to "
+                   f"a median relative error of {np.median(e):.1e} and at most {e.max():.1e} in T, A and eps.")
+        both = gated[gated.law == "viscoelastic"]
+        if both.engine.nunique() == 2:
+            piv = both.pivot_table(index=["case", "geometry", "criterion", "K"], columns="engine", values="err_eps")
+            piv = piv.dropna()
+            if len(piv):
+                gap = np.abs(piv.iloc[:, 0] - piv.iloc[:, 1]).max()
+                out.append(f"LIGGGHTS and YADE agree with each other in eps to {gap:.1e} at the same K and time "
+                           "step: both damp with the half-step velocity, hence the same first-order error.")
+    default = table[table.law == "default"]
+    for engine, group in default.groupby("engine"):
+        lo, hi = group.loc[group.K.idxmin()], group.loc[group.K.idxmax()]
+        out.append(f"{engine}'s out-of-the-box law (restitution {group.matched_restitution.iloc[0]:.4f}, matched at one "
+                   f"velocity) gives eps {lo.eps:.4f} at K = {lo.K:.3g} where the viscoelastic model gives "
+                   f"{lo.eps_ref:.4f} ({lo.err_eps:+.1%}), and {hi.eps:.4f} vs {hi.eps_ref:.4f} at K = {hi.K:.3g} "
+                   f"({hi.err_eps:+.1%}): a constant restitution cannot follow eps(K) ~ 1 - 1.009 K.")
+    x0 = table[(table.criterion == "x0") & table.law.isin(GATED_LAWS)]
+    if len(x0):
+        i = x0.K.idxmax()
+        r = x0.loc[i]
+        out.append(f"The paper's truncated series depart from the reference solver by "
+                   f"{r.series_err_T:+.1e} (T), {r.series_err_A:+.1e} (A), {r.series_err_eps:+.1e} (eps), "
+                   f"{r.series_err_Q1:+.1e} (Q1), {r.series_err_Q2:+.1e} (Q2) at K = {r.K:.3g} (criterion x0).")
+    if series_cmp is not None:
+        bad = series_cmp.dropna(subset=["paper"])
+        bad = bad[np.abs(bad.difference) > bad.rounding]
+        for r in bad.itertuples():
+            out.append(f"Paper's eq. {r.equation}: the K^{r.order} coefficient of {r.quantity} is printed as "
+                       f"{r.paper:g}; the reference solver gives {r.computed:.4f}.")
+    f0 = table[(table.criterion == "F0") & table.law.isin(GATED_LAWS)]
+    if len(f0):
+        r = f0.loc[f0.K.idxmax()]
+        out.append(f"Under criterion F0 (separation at zero force) T/T_e = {r.T_ref / r.T_e:.4f} at K = {r.K:.3g}, "
+                   f"below the x0 value: the paper's T series (+0.1009 K) is the x0 one; under F0 the linear "
+                   "coefficient is 0.1009 - 0.8/tau_e = -0.1709.")
+    return out
+
+
+def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp: pd.DataFrame | None = None,
+                 timing: dict | None = None) -> dict:
+    """Write report.md, report.html and the plots into out_dir; return the verdict dict."""
+    out_dir = Path(out_dir)
+    plots = out_dir / "plots"
+    plots.mkdir(parents=True, exist_ok=True)
+    worst = verdict(table, tolerance)
+    failed = worst[~worst["pass"]]
+    K_max = max(0.5, float(table.K.max()) * 1.05)
+    plot_ratios(table, "x0", plots / "ratios_x0.png", K_max)
+    plot_ratios(table, "F0", plots / "ratios_F0.png", K_max)
+    plot_errors(table, tolerance, plots / "errors.png")
+    if (table.law == "default").any():
+        plot_default_laws(table, plots / "default_laws.png", K_max)
+
+    versions = table.groupby("engine").engine_version.unique()
+    lines = [
+        "# Viscoelastic Hertz contact in DEM engines: comparison report", "",
+        f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `results/summary.csv` "
+        f"({len(table)} rows: one per engine run and end-of-collision criterion).", "",
+        f"**Verdict: {'PASS' if failed.empty else 'FAIL'}** — tolerances (relative, engine vs reference): "
+        + ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES) + ".", "",
+    ]
+    if not failed.empty:
+        lines += ["Failing: " + "; ".join(
+            f"{r.engine} {r.law} {r.geometry} {r.criterion} {r.quantity}: {r.max_abs_error:.2e} > {r.tolerance:g} "
+            f"(case {r.case}, K = {r.at_K:.3g})" for r in failed.itertuples()), ""]
+    lines += ["## Engines", ""] + [f"- **{e}**: {', '.join(v)}" for e, v in versions.items()] + [""]
+    lines += ["Cases: " + ", ".join(f"[{c}]({c}/summary.csv)" for c in sorted(table.case.unique())), ""]
+    lines += ["## Largest relative error, engine vs reference solver", "",
+              "Viscoelastic law with the attractive tail kept (criteria x0 and F0 from one trajectory) and "
+              "with the force clipped at zero (criterion F0 only).", "",
+              _md_table(worst.assign(**{"pass": worst["pass"].map({True: "pass", False: "FAIL"})})[
+                  ["engine", "law", "geometry", "criterion", "quantity", "max_abs_error", "tolerance", "pass",
+                   "case", "at_K"]]), ""]
+    lines += ["## Against K", "", "Engines as markers, the reference solver as a line, the paper's series dashed.", "",
+              "![criterion x0](plots/ratios_x0.png)", "", "![criterion F0](plots/ratios_F0.png)", "",
+              "![errors](plots/errors.png)", ""]
+    if (table.law == "default").any():
+        d = table[table.law == "default"]
+        drift = d.groupby(["engine", "geometry", "criterion"]).agg(
+            restitution=("matched_restitution", "first"),
+            eps_min=("eps", "min"), eps_max=("eps", "max"),
+            worst_eps_err=("err_eps", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
+            worst_T_err=("err_T", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
+            worst_A_err=("err_A", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))])).reset_index()
+        lines += ["## Out-of-the-box laws against the viscoelastic model", "",
+                  "LIGGGHTS `model hertz` and YADE Hertz-Mindlin with `en`, each set to the reference eps at one "
+                  "velocity; not gated.", "", _md_table(drift), "", "![default laws](plots/default_laws.png)", ""]
+    if series_cmp is not None:
+        pub = series_cmp.dropna(subset=["paper"])
+        lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",
+                  _md_table(pub[["quantity", "order", "equation", "paper", "computed", "difference"]], ".5g"), ""]
+    lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, worst, series_cmp)] + [""]
+    if timing:
+        lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
+    text = "\n".join(lines)
+    (out_dir / "report.md").write_text(text)
+    _write_html(text, out_dir / "report.html")
+    result = {"pass": bool(failed.empty),
+              "failures": [f"{r.engine} {r.law} {r.geometry} {r.criterion} {r.quantity}: {r.max_abs_error:.3e} "
+                           f"> {r.tolerance:g} (case {r.case}, K = {r.at_K:.4g})" for r in failed.itertuples()],
+              "checked": int(len(worst))}
+    return result
+
+
+def _write_html(markdown_text: str, path: Path) -> None:
+    import markdown
+
+    body = markdown.markdown(markdown_text, extensions=["tables"])
+    path.write_text("<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
+                    "<style>body{font-family:sans-serif;max-width:1300px;margin:auto}table{border-collapse:collapse}"
+                    "td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}img{max-width:100%}</style></head>"
+                    f"<body>{body}</body></html>")
+
+
+def write_verdict(result: dict, path: Path) -> None:
+    Path(path).write_text(json.dumps(result, indent=1))

@@ -1,0 +1,20 @@
+"""Snakemake script: the comparison report, its plots and the verdict the gate reads."""
+
+import json
+from pathlib import Path
+
+import pandas as pd
+
+from common import log_to
+from postprocess.report import write_report, write_verdict
+
+log = log_to(snakemake.log[0])
+table = pd.read_csv(snakemake.input.summary)
+series = pd.read_csv(snakemake.input.series)
+manifests = [json.load(open(m)) for m in snakemake.input.manifests]
+timing = {"engine jobs": len(manifests),
+          "engine seconds (sum)": round(sum(m["engine_seconds"] for m in manifests), 2)}
+result = write_report(table, snakemake.params.tolerance, Path(snakemake.output.md).parent, series, timing)
+write_verdict(result, snakemake.output.verdict)
+log.info("verdict: %s (%d checks); failures: %s", "PASS" if result["pass"] else "FAIL",
+         result["checked"], result["failures"] or "none")

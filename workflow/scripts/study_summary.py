@@ -1,0 +1,10 @@
+"""Snakemake script: all cases' summaries in one tidy table (results/summary.csv)."""
+
+import pandas as pd
+
+from common import log_to
+
+log = log_to(snakemake.log[0])
+table = pd.concat([pd.read_csv(p) for p in snakemake.input], ignore_index=True)
+table.to_csv(snakemake.output[0], index=False, float_format="%.12g")
+log.info("%d rows from %d cases", len(table), len(snakemake.input))
