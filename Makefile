@@ -9,7 +9,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEBIAN_PACKAGES := liggghts yade python3-venv python3-pip
 JOBS ?= 2
 
-.PHONY: study test bench engines venv clean
+.PHONY: study test bench engines venv clean ci-study
 
 study: engines venv
 	$(VENV)/bin/snakemake -j$(JOBS) all
@@ -17,8 +17,9 @@ study: engines venv
 test: engines venv
 	$(PY) -m pytest
 
-bench: venv
+bench: engines venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
+	$(PY) -m benchmarks.study
 
 # The DEM engines come from Debian's packages; skip apt when they are already there.
 engines:
@@ -39,3 +40,7 @@ $(VENV)/.installed: pyproject.toml
 
 clean:
 	rm -rf results .snakemake
+
+# CI's reduced study: one material, three K, both engines, both geometries.
+ci-study: engines venv
+	$(VENV)/bin/snakemake -j$(JOBS) all --config cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'

@@ -15,6 +15,19 @@ from pathlib import Path
 from snakemake.utils import validate
 
 configfile: "config/config.yaml"
+
+
+def _as_number(value):
+    """--config 'K_grid=[0.1,0.3]' arrives as strings; anything not a number stays as it is
+    and is refused by the schema with its key named."""
+    try:
+        return float(value) if isinstance(value, str) else value
+    except ValueError:
+        return value
+
+
+if isinstance(config.get("K_grid"), list):
+    config["K_grid"] = [_as_number(v) for v in config["K_grid"]]
 validate(config, "config/config.schema.yaml")
 
 # The workflow's scripts import the project's packages and workflow/scripts/common.py.
@@ -42,6 +55,9 @@ ENGINES = config["engines"]
 DECKS = {"liggghts": sorted(glob.glob("cases/decks/liggghts/*.in")), "yade": ["cases/decks/yade/collisions.py"]}
 SETTINGS = {k: config[k] for k in ("engines", "laws", "K_grid", "time_step_factor", "default_law_match_K",
                                    "max_overlap_ratio")}
+
+# Light bookkeeping stays on the submitting host when a cluster profile is used.
+localrules: all, plan, summary, reference_table, series, report, gate
 
 wildcard_constraints:
     case="|".join(CASES),
@@ -127,6 +143,7 @@ rule report:
         summary="results/summary.csv",
         series="results/reference/series.csv",
         manifests=expand("results/{case}/{engine}/manifest.json", case=CASES, engine=ENGINES),
+        plans=expand("results/{case}/plan.json", case=CASES),
     output:
         md="results/report.md",
         html="results/report.html",

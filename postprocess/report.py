@@ -177,8 +177,12 @@ def findings(table: pd.DataFrame, worst: pd.DataFrame, series_cmp: pd.DataFrame)
 
 
 def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp: pd.DataFrame | None = None,
-                 timing: dict | None = None) -> dict:
-    """Write report.md, report.html and the plots into out_dir; return the verdict dict."""
+                 timing: dict | None = None, not_run: list[dict] = (), failed: list[dict] = ()) -> dict:
+    """Write report.md, report.html and the plots into out_dir; return the verdict dict.
+
+    not_run: velocities the plan left out, with the reason; failed: out-of-the-box runs that the
+    engine could not complete (the gated laws never get here: their failure stops the workflow).
+    """
     out_dir = Path(out_dir)
     plots = out_dir / "plots"
     plots.mkdir(parents=True, exist_ok=True)
@@ -229,6 +233,14 @@ def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp
         pub = series_cmp.dropna(subset=["paper"])
         lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",
                   _md_table(pub[["quantity", "order", "equation", "paper", "computed", "difference"]], ".5g"), ""]
+    if len(not_run) or len(failed):
+        lines += ["## Runs not made or not completed", ""]
+        if len(not_run):
+            lines += ["Not run (see `results/<case>/plan.json`):", "",
+                      _md_table(pd.DataFrame(list(not_run))[["case", "geometry", "K", "V", "delta_e/R*", "reason"]]), ""]
+        if len(failed):
+            lines += ["Out-of-the-box runs the engine did not complete (not gated):", "",
+                      _md_table(pd.DataFrame(list(failed))[["case", "engine", "run", "problem", "log"]]), ""]
     lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, worst, series_cmp)] + [""]
     if timing:
         lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
