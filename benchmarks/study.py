@@ -28,12 +28,12 @@ def main():
         walls, ratios = [], []
         for _ in range(REPEATS):
             t0 = time.perf_counter()
-            done = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "--forceall", "--quiet", "all", *target],
+            done = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "--forceall", *target],
                                   capture_output=True, text=True)
             wall = time.perf_counter() - t0
-            if done.returncode != 0 and target == ["all"]:
-                print(done.stderr[-2000:])
-                raise SystemExit("the study failed; see above")
+            if done.returncode != 0:
+                print(done.stdout[-2000:], done.stderr[-2000:])
+                raise SystemExit(f"snakemake {' '.join(target)} failed; see above")
             pattern = "results/steel/*/manifest.json" if target == ["steel"] else "results/*/*/manifest.json"
             walls.append(wall)
             ratios.append(wall / engine_seconds(pattern))
