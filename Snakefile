@@ -28,6 +28,9 @@ def _as_number(value):
 
 if isinstance(config.get("K_grid"), list):
     config["K_grid"] = [_as_number(v) for v in config["K_grid"]]
+for _key in ("K", "time_step_factors"):
+    if isinstance(config.get("convergence", {}).get(_key), list):
+        config["convergence"][_key] = [_as_number(v) for v in config["convergence"][_key]]
 validate(config, "config/config.schema.yaml")
 
 # The workflow's scripts import the project's packages and workflow/scripts/common.py.
@@ -52,7 +55,8 @@ for _path in CASES.values():
     load_case(_path)
 
 ENGINES = config["engines"]
-DECKS = {"liggghts": sorted(glob.glob("cases/decks/liggghts/*.in")), "yade": ["cases/decks/yade/collisions.py"]}
+DECKS = {"liggghts": sorted(glob.glob("cases/decks/liggghts/*.in")), "yade": ["cases/decks/yade/collisions.py"],
+         "lammps": sorted(glob.glob("cases/decks/lammps/*.in"))}
 SETTINGS = {k: config[k] for k in ("engines", "laws", "K_grid", "time_step_factor", "default_law_match_K",
                                    "max_overlap_ratio")}
 
@@ -62,6 +66,12 @@ localrules: all, plan, summary, reference_table, series, report, gate
 wildcard_constraints:
     case="|".join(CASES),
     engine="|".join(ENGINES),
+
+
+EXTRA_REPORT_INPUTS = {
+    "convergence": "results/convergence/orders.csv",
+    **({"lammps_wall": "results/lammps/wall_modulus.csv"} if "lammps" in ENGINES else {}),
+}
 
 
 rule all:
@@ -144,6 +154,7 @@ rule report:
         series="results/reference/series.csv",
         manifests=expand("results/{case}/{engine}/manifest.json", case=CASES, engine=ENGINES),
         plans=expand("results/{case}/plan.json", case=CASES),
+        **EXTRA_REPORT_INPUTS,
     output:
         md="results/report.md",
         html="results/report.html",
@@ -151,6 +162,40 @@ rule report:
     log: "logs/report.log"
     params: tolerance=config["tolerance"]
     script: "workflow/scripts/report.py"
+
+
+rule convergence_runs:
+    """Time-step convergence: one engine, every K and time-step factor, in one engine process."""
+    input:
+        case=config["convergence"]["case"],
+        decks=lambda w: DECKS[w.engine],
+    output: manifest="results/convergence/{engine}/manifest.json"
+    log: "logs/convergence/{engine}.log"
+    benchmark: "benchmarks/convergence/{engine}.tsv"
+    params: convergence=config["convergence"]
+    resources: runtime=30, mem_mb=2000
+    script: "workflow/scripts/convergence_runs.py"
+
+
+rule convergence_summary:
+    """Errors against dt, the observed orders and the largest passing dt; the log-log plot."""
+    input: manifests=expand("results/convergence/{engine}/manifest.json", engine=ENGINES)
+    output:
+        errors="results/convergence/errors.csv",
+        orders="results/convergence/orders.csv",
+        plot="results/plots/convergence.png",
+    log: "logs/convergence/summary.log"
+    params: tolerance=config["tolerance"]
+    script: "workflow/scripts/convergence_summary.py"
+
+
+rule lammps_wall_modulus:
+    """Regression case: LAMMPS fix wall/gran hertz/material uses E/(2(1-nu)), not E/(2(1-nu^2))."""
+    input: "cases/decks/lammps/sphere_plane.in"
+    output: "results/lammps/wall_modulus.csv"
+    log: "logs/lammps_wall_modulus.log"
+    params: workdir="results/lammps/wall_modulus", poisson=0.3
+    script: "workflow/scripts/lammps_wall_modulus.py"
 
 
 rule gate:

@@ -1,172 +1,64 @@
-"""LIGGGHTS-PUBLIC driver: `RunSpec`s -> one `liggghts -in sweep.in` process -> study dumps.
+"""LIGGGHTS-PUBLIC 3.8.0: the deck variables of a run (cases/decks/liggghts/).
 
-The decks (cases/decks/liggghts/) hold only LIGGGHTS syntax; every number is set as a LIGGGHTS
-variable from here, derived from the contact pair by `contact_model`.
+The decks hold only LIGGGHTS syntax; every number is set here, from the contact pair through
+`contact_model`. The sweep mechanics are shared with LAMMPS (engines/script_engine.py).
 """
 
 from __future__ import annotations
 
-import hashlib
-import re
-import subprocess
-import time
-from functools import lru_cache
 from pathlib import Path
 
-import numpy as np
-
-from .errors import EngineRunFailed, require_executable
-from .finish_run import Sweep, load_record, write_run_dump
 from .run_spec import RunSpec
+from .script_engine import ScriptEngine, number
 
-EXECUTABLE = "liggghts"
-DECKS = Path(__file__).resolve().parents[1] / "cases" / "decks" / "liggghts"
 DECK_OF_GEOMETRY = {"sphere-sphere": "two_spheres.in", "sphere-plane": "sphere_plane.in"}
 PROPERTIES_OF_LAW = {"viscoelastic": "properties_viscoelastic.in",
                      "viscoelastic_clipped": "properties_viscoelastic.in",
                      "default": "properties_default.in"}
-TIMEOUT_S = 600
 
 
-@lru_cache(maxsize=None)
-def liggghts_version(executable: str = EXECUTABLE) -> str:
-    """The version line LIGGGHTS prints at start-up, e.g.
-    'LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled ...)'."""
-    exe = require_executable("liggghts", executable)
-    out = subprocess.run([exe, "-log", "none"], input="", capture_output=True, text=True, timeout=60)
-    for line in out.stdout.splitlines():
-        if line.startswith("LIGGGHTS"):
-            return line.strip()
-    return "LIGGGHTS (version line not found)"
+def deck_files(spec: RunSpec) -> list[str]:
+    return [DECK_OF_GEOMETRY[spec.pair.geometry], PROPERTIES_OF_LAW[spec.law]]
 
 
-def deck_hash(spec: RunSpec) -> str:
-    """sha256 of the deck and the property file the run includes."""
-    h = hashlib.sha256()
-    for name in (DECK_OF_GEOMETRY[spec.pair.geometry], PROPERTIES_OF_LAW[spec.law]):
-        h.update((DECKS / name).read_bytes())
-    return h.hexdigest()
-
-
-def deck_variables(spec: RunSpec, out: Path) -> dict[str, str]:
-    """The deck variables of one run (SI, %.17g so that nothing is rounded)."""
+def deck_variables(spec: RunSpec, out: Path, decks: Path) -> dict[str, str]:
+    """The deck variables of one run (SI)."""
     p = spec.pair
-    g = lambda x: f"{x:.17g}"  # noqa: E731
     R1 = p.body_1.radius
     gap = spec.initial_gap()
     v1, v2 = spec.initial_velocities()
-    size = 3.0 * max(R1, p.body_2.radius if not p.body_2.is_plane else R1) + gap
+    size = 3.0 * max(R1, R1 if p.body_2.is_plane else p.body_2.radius) + gap
     var = {
-        "R1": g(R1), "rho1": g(p.body_1.density), "v1": g(v1),
-        "dt": g(spec.time_step), "steps": str(spec.steps()),
-        "box": g(size), "skin": g(0.25 * R1),
-        "properties": str(DECKS / PROPERTIES_OF_LAW[spec.law]),
+        "R1": number(R1), "rho1": number(p.body_1.density), "v1": number(v1),
+        "dt": number(spec.time_step), "steps": str(spec.steps()),
+        "box": number(size), "skin": number(0.25 * R1),
+        "properties": str(decks / PROPERTIES_OF_LAW[spec.law]),
         "model_tail": "limitForce " + ("on" if spec.law == "viscoelastic_clipped" else "off"),
         "out": str(out),
     }
     if p.body_2.is_plane:
-        var["x1"] = g(-(R1 + gap))
+        var["x1"] = number(-(R1 + gap))
     else:
-        var.update({"R2": g(p.body_2.radius), "rho2": g(p.body_2.density), "v2": g(v2),
-                    "x1": g(-(R1 + gap / 2)), "x2": g(p.body_2.radius + gap / 2)})
+        var.update({"R2": number(p.body_2.radius), "rho2": number(p.body_2.density), "v2": number(v2),
+                    "x1": number(-(R1 + gap / 2)), "x2": number(p.body_2.radius + gap / 2)})
     if spec.law == "default":
         var["model_head"] = "model hertz tangential no_history"
-        var["young"] = g(2.0 * p.E)  # poisson 0 on both: Y* = Y/2 = E*
-        var["restitution"] = g(spec.matched_restitution)
+        var["young"] = number(2.0 * p.E)  # poisson 0 on both: Y* = Y/2 = E*
+        var["restitution"] = number(spec.matched_restitution)
     else:
         params = p.engine_parameters("liggghts")
         var["model_head"] = "model hertz/stiffness tangential no_history"
-        var["kn"], var["gamman"] = g(params["kn"]), g(params["gamman"])
+        var["kn"], var["gamman"] = number(params["kn"]), number(params["gamman"])
     return var
 
 
-def _last_error(log: Path) -> str:
-    try:
-        lines = log.read_text(errors="replace").splitlines()
-    except OSError:
-        return "no log written"
-    errors = [l for l in lines if "ERROR" in l]
-    return errors[-1].strip() if errors else (lines[-1].strip() if lines else "empty log")
+LIGGGHTS = ScriptEngine(
+    name="liggghts", executable="liggghts", version_prefix="LIGGGHTS",
+    decks=Path(__file__).resolve().parents[1] / "cases" / "decks" / "liggghts",
+    variables=deck_variables, deck_files=deck_files, step0_in_record=False,
+)
 
 
-def master_deck(specs: list[RunSpec], raws: dict[str, Path]) -> str:
-    """A LIGGGHTS input that runs every spec in turn: set its variables, include its deck,
-    `clear`. Variables survive `clear`, so each is deleted and defined anew for every run."""
-    lines = [f"# generated by engines/liggghts.py: {len(specs)} run(s) in one LIGGGHTS process"]
-    for spec in specs:
-        lines.append(f'print "RUN {spec.name}"')
-        for k, v in deck_variables(spec, raws[spec.name]).items():
-            lines += [f"variable {k} delete", f'variable {k} index "{v}"']
-        lines += [f"include {DECKS / DECK_OF_GEOMETRY[spec.pair.geometry]}", "clear"]
-    return "\n".join(lines) + "\n"
-
-
-def _run_in_progress(log: Path, specs: list[RunSpec]) -> str:
-    """The run the log was busy with when it stopped (the last 'RUN <name>' line)."""
-    try:
-        names = re.findall(r"^RUN (\S+)$", log.read_text(errors="replace"), flags=re.M)
-    except OSError:
-        names = []
-    return names[-1] if names else specs[0].name
-
-
-def run_liggghts(specs: list[RunSpec], workdir, executable: str = EXECUTABLE) -> Sweep:
-    """Run collisions in one LIGGGHTS process; write `workdir/<spec.name>.csv` for each.
-
-    LIGGGHTS needs ~0.4 s to start and ~0.02 s per collision, so a sweep shares one process
-    (`clear` between runs; a run's dump is identical to a solo run's, see the tests).
-    Raises EngineMissing if LIGGGHTS is not installed. A run that fails (an engine error, NaN,
-    bodies that never touch or are still in contact at the end) is an EngineRunFailed with
-    the log path in the returned `Sweep`; when LIGGGHTS stops, the runs after it fail too.
-    """
-    if any(s.engine != "liggghts" for s in specs):
-        raise ValueError("run_liggghts got runs for another engine")
-    if len({s.name for s in specs}) != len(specs):
-        raise ValueError("run_liggghts got two runs with the same name")
-    exe = require_executable("liggghts", executable)
-    workdir = Path(workdir).resolve()
-    workdir.mkdir(parents=True, exist_ok=True)
-    log = workdir / "liggghts.log"
-    raws = {s.name: workdir / f"{s.name}.liggghts.txt" for s in specs}
-    for s in specs:
-        (workdir / f"{s.name}.csv").unlink(missing_ok=True)
-        raws[s.name].unlink(missing_ok=True)
-    master = workdir / "liggghts-sweep.in"
-    master.write_text(master_deck(specs, raws))
-    cmd = [exe, "-in", str(master), "-log", str(log), "-screen", "none"]
-    sweep = Sweep()
-    started = time.perf_counter()
-    try:
-        done = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=TIMEOUT_S,
-                              stdin=subprocess.DEVNULL)
-        stop = None if done.returncode == 0 else f"liggghts exited with status {done.returncode}: {_last_error(log)}"
-    except subprocess.TimeoutExpired:
-        stop = f"liggghts did not finish within {TIMEOUT_S} s"
-    sweep.engine_seconds = time.perf_counter() - started
-    stopped_in = _run_in_progress(log, specs) if stop else None
-    version = liggghts_version(executable)
-    reached_stop = False
-    for spec in specs:
-        if spec.name == stopped_in:
-            reached_stop = True
-            sweep.failures[spec.name] = EngineRunFailed(spec.name, stop, log)
-            continue
-        if reached_stop:
-            sweep.failures[spec.name] = EngineRunFailed(spec.name, f"not run: liggghts stopped in {stopped_in}", log)
-            continue
-        sweep.finish(spec, lambda: _liggghts_dump(spec, raws[spec.name], workdir, log, version))
-    return sweep
-
-
-def _liggghts_dump(spec: RunSpec, raw: Path, workdir: Path, log: Path, version: str) -> Path:
-    data = load_record(spec, raw, log)
-    # fix print starts at step 1: prepend the initial state (free flight, no force).
-    v1, v2 = spec.initial_velocities()
-    data = np.vstack([[0.0, -spec.initial_gap(), v1 - v2, 0.0], data])
-    variables = deck_variables(spec, raw)
-    meta = {"engine": "liggghts", "engine_version": version,
-            "deck": DECK_OF_GEOMETRY[spec.pair.geometry], "deck_sha256": deck_hash(spec),
-            "engine_variables": {k: v for k, v in variables.items() if k != "out"}}
-    dump = write_run_dump(spec, data, workdir / f"{spec.name}.csv", log, meta)
-    raw.unlink()
-    return dump
+def run_liggghts(specs: list[RunSpec], workdir, executable: str = "liggghts", **kw):
+    """Run LIGGGHTS collisions in one process (see `ScriptEngine.run`); returns a `Sweep`."""
+    return LIGGGHTS.run(specs, workdir, executable, **kw)

@@ -73,3 +73,19 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                     runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e)
                              for v in velocities]
     return plan
+
+
+def plan_convergence(case: Case, engine: str, K_values, time_step_factors, velocity: float) -> list[RunSpec]:
+    """The time-step convergence runs: the case's material and geometries at one impact
+    velocity, the viscosity set for each K (K = 0: elastic), every time-step factor."""
+    from contact_model import ContactPair
+    from contact_model.collision_scales import viscosity_for_dissipation
+
+    runs = []
+    for pair in case.pairs:
+        for K in K_values:
+            eta = viscosity_for_dissipation(pair.E, pair.R, pair.M, velocity, K) if K > 0 else 0.0
+            tuned = ContactPair(pair.geometry, pair.body_1, pair.body_2, pair.E, eta)
+            runs += [RunSpec(f"{case.name}-convergence", engine, "viscoelastic", tuned, velocity, f)
+                     for f in time_step_factors]
+    return runs

@@ -18,16 +18,16 @@ Contact laws:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from contact_model import ContactPair
 from reference import HERTZ_TAU, solve_collision
 
 LAWS = ("viscoelastic", "viscoelastic_clipped", "default")
-ENGINES = ("liggghts", "yade")
-#: The criterion an engine's default law stands for: LIGGGHTS keeps the attractive tail
-#: (limitForce off by default), YADE's Hertz-Mindlin clips the force at zero.
-DEFAULT_LAW_CRITERION = {"liggghts": "x0", "yade": "F0"}
+ENGINES = ("liggghts", "yade", "lammps")
+#: The criterion an engine's default law stands for: LIGGGHTS and LAMMPS keep the attractive
+#: tail (limitForce off, no limit_damping by default), YADE's Hertz-Mindlin clips the force.
+DEFAULT_LAW_CRITERION = {"liggghts": "x0", "yade": "F0", "lammps": "x0"}
 
 #: Steps of free flight before contact and after separation.
 GAP_STEPS = 20
@@ -45,7 +45,7 @@ class RunSpec:
     velocity: float
     time_step_factor: float = 1000.0  # dt = T_e / factor
     matched_restitution: float | None = None  # for law 'default': the eps it is tuned to
-    extra: dict = field(default_factory=dict, compare=False)
+    label: str = ""  # appended to the name, for runs that differ in something else
 
     def __post_init__(self):
         if self.engine not in ENGINES:
@@ -82,7 +82,9 @@ class RunSpec:
     def name(self) -> str:
         name = (f"{self.engine}-{self.law}-{self.pair.geometry}-K{self.K:.6g}-V{self.velocity:.6e}"
                 f"-dt{self.time_step_factor:g}")
-        return name if self.matched_restitution is None else f"{name}-e{self.matched_restitution:.6f}"
+        if self.matched_restitution is not None:
+            name += f"-e{self.matched_restitution:.6f}"
+        return f"{name}-{self.label}" if self.label else name
 
     def initial_gap(self) -> float:
         """Distance between the surfaces at t = 0 [m]: GAP_STEPS steps of approach."""

@@ -27,10 +27,12 @@ GATED_QUANTITIES = ("T", "A", "eps")
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
          "Q1": ("Q1/Q1e", "Q1e"), "Q2": ("Q2/Q2e", "Q2e")}
 MARKERS = {("liggghts", "sphere-sphere"): "o", ("liggghts", "sphere-plane"): "s",
-           ("yade", "sphere-sphere"): "^", ("yade", "sphere-plane"): "v"}
-COLORS = {"liggghts": "tab:blue", "yade": "tab:red"}
-# LIGGGHTS large and hollow, YADE small and filled: where the engines agree both stay visible.
-SIZE = {"liggghts": 9, "yade": 4}
+           ("yade", "sphere-sphere"): "^", ("yade", "sphere-plane"): "v",
+           ("lammps", "sphere-sphere"): "D", ("lammps", "sphere-plane"): "d"}
+COLORS = {"liggghts": "tab:blue", "yade": "tab:red", "lammps": "tab:green"}
+# Large hollow, medium hollow, small filled: where the engines agree all stay visible.
+SIZE = {"liggghts": 10, "lammps": 7, "yade": 4}
+HOLLOW = {"liggghts": True, "lammps": True, "yade": False}
 
 
 def verdict(table: pd.DataFrame, tolerance: dict) -> pd.DataFrame:
@@ -62,7 +64,7 @@ def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, K_max: float) -
             sel = runs[(runs.engine == engine) & (runs.geometry == geometry)]
             if len(sel):
                 ax.plot(sel.K, _ratio(sel, q), marker, ms=SIZE[engine],
-                        mfc="none" if engine == "liggghts" else COLORS[engine], color=COLORS[engine],
+                        mfc="none" if HOLLOW[engine] else COLORS[engine], color=COLORS[engine],
                         label=f"{engine}, {geometry}")
         ax.set_xlabel("K")
         ax.set_title(name)
@@ -110,7 +112,7 @@ def plot_default_laws(table: pd.DataFrame, path: Path, K_max: float) -> None:
             if len(sel):
                 crit = sel.criterion.iloc[0]
                 ax.plot(sel.K, _ratio(sel, q), marker, color=COLORS[engine], ms=SIZE[engine],
-                        mfc="none" if engine == "liggghts" else COLORS[engine],
+                        mfc="none" if HOLLOW[engine] else COLORS[engine],
                         label=f"{engine} default, {geometry} ({crit})")
         ax.set_xlabel("K of the viscoelastic model at that velocity")
         ax.set_title(name)
@@ -140,13 +142,14 @@ def findings(table: pd.DataFrame, worst: pd.DataFrame, series_cmp: pd.DataFrame)
         out.append(f"The viscoelastic runs ({len(gated)} run x criterion rows) agree with the reference solver to "
                    f"a median relative error of {np.median(e):.1e} and at most {e.max():.1e} in T, A and eps.")
         both = gated[gated.law == "viscoelastic"]
-        if both.engine.nunique() == 2:
+        if both.engine.nunique() >= 2:
             piv = both.pivot_table(index=["case", "geometry", "criterion", "K"], columns="engine", values="err_eps")
             piv = piv.dropna()
             if len(piv):
-                gap = np.abs(piv.iloc[:, 0] - piv.iloc[:, 1]).max()
-                out.append(f"LIGGGHTS and YADE agree with each other in eps to {gap:.1e} at the same K and time "
-                           "step: both damp with the half-step velocity, hence the same first-order error.")
+                gap = float((piv.max(axis=1) - piv.min(axis=1)).max())
+                out.append(f"The engines ({', '.join(piv.columns)}) agree with each other in eps to {gap:.1e} at the "
+                           "same K and time step: all damp with the half-step velocity, hence the same first-order "
+                           "error.")
     default = table[table.law == "default"]
     for engine, group in default.groupby("engine"):
         lo, hi = group.loc[group.K.idxmin()], group.loc[group.K.idxmax()]
@@ -177,7 +180,8 @@ def findings(table: pd.DataFrame, worst: pd.DataFrame, series_cmp: pd.DataFrame)
 
 
 def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp: pd.DataFrame | None = None,
-                 timing: dict | None = None, not_run: list[dict] = (), failed: list[dict] = ()) -> dict:
+                 timing: dict | None = None, not_run: list[dict] = (), failed: list[dict] = (),
+                 convergence: pd.DataFrame | None = None, lammps_wall: pd.DataFrame | None = None) -> dict:
     """Write report.md, report.html and the plots into out_dir; return the verdict dict.
 
     not_run: velocities the plan left out, with the reason; failed: out-of-the-box runs that the
@@ -241,6 +245,16 @@ def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp
         if len(failed):
             lines += ["Out-of-the-box runs the engine did not complete (not gated):", "",
                       _md_table(pd.DataFrame(list(failed))[["case", "engine", "run", "problem", "log"]]), ""]
+    if convergence is not None:
+        lines += _convergence_section(convergence)
+    if lammps_wall is not None:
+        r = lammps_wall.iloc[-1]
+        lines += ["## LAMMPS: the wall modulus of `hertz/material`", "",
+                  f"A sphere on a plane of its own material (nu = {r.poisson:g}), elastic. With an explicit `hertz` "
+                  "kn = 4/3 E* the engine matches the reference; with `fix wall/gran ... hertz/material E eta nu`, "
+                  "as a user would write it, the Debian version (29 Sep 2021) uses E/(2(1-nu)) instead of "
+                  "E/(2(1-nu^2)) for the wall: (1+nu) times too stiff. The study gives the wall an explicit kn.", "",
+                  _md_table(lammps_wall, ".4g"), ""]
     lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, worst, series_cmp)] + [""]
     if timing:
         lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
@@ -252,6 +266,21 @@ def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp
                            f"> {r.tolerance:g} (case {r.case}, K = {r.at_K:.4g})" for r in failed.itertuples()],
               "checked": int(len(worst))}
     return result
+
+
+def _convergence_section(orders: pd.DataFrame) -> list[str]:
+    """Observed orders (median over engines and geometries, which agree) and the full table."""
+    finite = orders.dropna(subset=["order"])
+    summary = finite.groupby(["K", "criterion", "quantity"]).agg(
+        order_min=("order", "min"), order_max=("order", "max")).reset_index()
+    passing = orders.groupby(["K", "criterion", "quantity"]).largest_passing_dt.agg(
+        lambda s: ", ".join(sorted(set(s)))).reset_index()
+    summary = summary.merge(passing, on=["K", "criterion", "quantity"], how="right")
+    return ["## Convergence in the time step", "",
+            "Steel, V = 1 m/s, eta set per K; dt = T_e/250 ... T_e/8000 in every engine and geometry. Order: "
+            "least-squares slope of log|error| against log dt over the points above round-off "
+            "(`results/convergence/orders.csv` per engine and geometry; `errors.csv` the points).", "",
+            _md_table(summary, ".3g"), "", "![convergence](plots/convergence.png)", ""]
 
 
 def _write_html(markdown_text: str, path: Path) -> None:

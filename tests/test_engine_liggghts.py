@@ -1,6 +1,8 @@
 """LIGGGHTS, run for real: the viscoelastic Hertz contact against the reference solver, and the
 errors a user gets for a missing engine, a crash, or a run that misses the collision."""
 
+import dataclasses
+
 import pytest
 
 from engine_cases import TOLERANCE, VELOCITY, relative_errors, require_engine, steel_pair
@@ -61,15 +63,15 @@ def test_missing_engine_names_the_install_command(tmp_path):
 def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path, monkeypatch):
     broken = tmp_path / "decks"
     broken.mkdir()
-    for deck in liggghts.DECKS.glob("*.in"):
+    for deck in liggghts.LIGGGHTS.decks.glob("*.in"):
         (broken / deck.name).write_text(deck.read_text())
     deck = broken / "sphere_plane.in"
     deck.write_text(deck.read_text().replace("atom_style      granular", "atom_style      nonsense"))
-    monkeypatch.setattr(liggghts, "DECKS", broken)
+    engine = dataclasses.replace(liggghts.LIGGGHTS, decks=broken)
     spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
     before = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
     after = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere", K=0.2), VELOCITY)
-    sweep = liggghts.run_liggghts([before, spec, after], tmp_path / "out")
+    sweep = engine.run([before, spec, after], tmp_path / "out")
     assert list(sweep.dumps) == [before.name]  # the run before the crash landed
     err = sweep.failures[spec.name]
     assert "exited with status" in str(err) and "liggghts.log" in str(err) and "Invalid atom style" in str(err)

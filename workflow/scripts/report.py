@@ -17,8 +17,10 @@ timing = {"engine jobs": len(manifests),
           "engine process seconds (sum)": round(sum(m["engine_seconds"] for m in manifests), 2)}
 not_run = [row for p in plans for row in p["not_run"]]
 failed = [{"case": m["case"], "engine": m["engine"], **f} for m in manifests for f in m["failed"]]
+optional = {key: pd.read_csv(snakemake.input[key]) for key in ("convergence", "lammps_wall")
+            if key in snakemake.input.keys()}
 result = write_report(table, snakemake.params.tolerance, Path(snakemake.output.md).parent, series, timing,
-                      not_run, failed)
+                      not_run, failed, **optional)
 write_verdict(result, snakemake.output.verdict)
 log.info("verdict: %s (%d checks); failures: %s", "PASS" if result["pass"] else "FAIL",
          result["checked"], result["failures"] or "none")

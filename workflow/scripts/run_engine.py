@@ -10,11 +10,12 @@ from pathlib import Path
 
 from common import log_to
 from contact_model import load_case
+from engines.lammps import run_lammps
 from engines.liggghts import run_liggghts
 from engines.plan import plan_runs
 from engines.yade import run_yade
 
-RUNNERS = {"liggghts": run_liggghts, "yade": run_yade}
+RUNNERS = {"liggghts": run_liggghts, "yade": run_yade, "lammps": run_lammps}
 GATED_LAWS = ("viscoelastic", "viscoelastic_clipped")
 
 log = log_to(snakemake.log[0])

@@ -1,0 +1,88 @@
+"""LAMMPS (Debian 20220106, GRANULAR package): the deck variables of a run (cases/decks/lammps/).
+
+pair_style granular / fix wall/gran granular with normal model `hertz` (kn = 4/3 E*) and
+`damping viscoelastic` (eta_n = eta_n0 a m_eff, eta_n0 = 2 eta / M*): the exact Brilliantov
+force, attractive tail kept. `limit_damping` clips the total force at zero (criterion F0).
+The out-of-the-box law is `hertz/material` with `damping tsuji`, whose coefficient is the
+restitution coefficient itself.
+
+Known defect of this version, kept as a regression case (`wall_modulus_regression`): fix
+wall/gran with `hertz/material E eta nu` uses E / (2 (1 - nu)) instead of E / (2 (1 - nu^2))
+(src/GRANULAR/fix_wall_gran.cpp), so the study always gives the wall an explicit `hertz` kn.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from contact_model import Body, ContactPair
+
+from .run_spec import RunSpec
+from .script_engine import ScriptEngine, number
+
+DECK_OF_GEOMETRY = {"sphere-sphere": "two_spheres.in", "sphere-plane": "sphere_plane.in"}
+TANGENTIAL = "tangential linear_nohistory 0 0"  # required by the granular styles; zero friction
+
+
+def deck_files(spec: RunSpec) -> list[str]:
+    return [DECK_OF_GEOMETRY[spec.pair.geometry]]
+
+
+def model_words(spec: RunSpec) -> str:
+    """The granular model of a run, as pair_coeff / fix wall/gran words."""
+    p = spec.pair
+    if spec.law == "default":
+        # hertz/material E e nu with tsuji damping: e is read as the restitution coefficient.
+        # nu = 0 on both sides makes E* = E/2, and also sidesteps the wall's 1 - nu defect.
+        return f"hertz/material {number(2.0 * p.E)} {number(spec.matched_restitution)} 0.0 damping tsuji {TANGENTIAL}"
+    params = p.engine_parameters("lammps")
+    words = f"hertz {number(params['kn'])} {number(params['eta_n0'])} damping viscoelastic {TANGENTIAL}"
+    return words + (" limit_damping" if spec.law == "viscoelastic_clipped" else "")
+
+
+def deck_variables(spec: RunSpec, out: Path, decks: Path) -> dict[str, str]:
+    """The deck variables of one run (SI)."""
+    p = spec.pair
+    R1 = p.body_1.radius
+    gap = spec.initial_gap()
+    v1, v2 = spec.initial_velocities()
+    size = 3.0 * max(R1, R1 if p.body_2.is_plane else p.body_2.radius) + gap
+    var = {
+        "R1": number(R1), "d1": number(2 * R1), "rho1": number(p.body_1.density), "v1": number(v1),
+        "dt": number(spec.time_step), "steps": str(spec.steps()),
+        "box": number(size), "skin": number(0.25 * R1), "model": model_words(spec), "out": str(out),
+    }
+    if p.body_2.is_plane:
+        var["x1"] = number(-(R1 + gap))
+    else:
+        R2 = p.body_2.radius
+        var.update({"R2": number(R2), "d2": number(2 * R2), "rho2": number(p.body_2.density), "v2": number(v2),
+                    "x1": number(-(R1 + gap / 2)), "x2": number(R2 + gap / 2)})
+    return var
+
+
+LAMMPS = ScriptEngine(
+    name="lammps", executable="lmp", version_prefix="LAMMPS",
+    decks=Path(__file__).resolve().parents[1] / "cases" / "decks" / "lammps",
+    variables=deck_variables, deck_files=deck_files, step0_in_record=True,
+)
+
+
+def run_lammps(specs: list[RunSpec], workdir, executable: str = "lmp", **kw):
+    """Run LAMMPS collisions in one process (see `ScriptEngine.run`); returns a `Sweep`."""
+    return LAMMPS.run(specs, workdir, executable, **kw)
+
+
+def wall_modulus_regression(workdir, young: float = 200e9, poisson: float = 0.3, radius: float = 0.005,
+                            density: float = 7800.0, velocity: float = 1.0, executable: str = "lmp"):
+    """The wall `hertz/material` defect, measured: an elastic sphere on a plane of its own
+    material (E* = Y / (2 (1 - nu^2))), once with an explicit `hertz` kn = 4/3 E* and once with
+    `hertz/material Y 0 nu` as a user would write it. Returns ((explicit, material), sweep)."""
+    sphere = Body(radius, density, young, poisson)
+    pair = ContactPair.from_bodies(sphere, Body(math.inf, math.inf, young, poisson), 0.0)
+    spec = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity)
+    material = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity, label="hertz-material")
+    words = f"hertz/material {number(young)} 0.0 {number(poisson)} damping viscoelastic {TANGENTIAL}"
+    overrides = {material.name: {"model": words}}
+    return (spec, material), run_lammps([spec, material], workdir, executable, overrides=overrides)
