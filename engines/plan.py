@@ -75,9 +75,11 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     return plan
 
 
-def plan_convergence(case: Case, engine: str, K_values, time_step_factors, velocity: float) -> list[RunSpec]:
-    """The time-step convergence runs: the case's material and geometries at one impact
-    velocity, the viscosity set for each K (K = 0: elastic), every time-step factor."""
+def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, velocity: float,
+                     purpose: str) -> list[RunSpec]:
+    """Runs of the case's material and geometries at one impact velocity, the viscosity set for
+    each K (K = 0: elastic), at every time-step factor (the convergence study, the paper's
+    Fig. 4). `purpose` tags the case name."""
     from contact_model import ContactPair
     from contact_model.collision_scales import viscosity_for_dissipation
 
@@ -86,6 +88,6 @@ def plan_convergence(case: Case, engine: str, K_values, time_step_factors, veloc
         for K in K_values:
             eta = viscosity_for_dissipation(pair.E, pair.R, pair.M, velocity, K) if K > 0 else 0.0
             tuned = ContactPair(pair.geometry, pair.body_1, pair.body_2, pair.E, eta)
-            runs += [RunSpec(f"{case.name}-convergence", engine, "viscoelastic", tuned, velocity, f)
+            runs += [RunSpec(f"{case.name}-{purpose}", engine, "viscoelastic", tuned, velocity, f)
                      for f in time_step_factors]
     return runs

@@ -181,7 +181,9 @@ def findings(table: pd.DataFrame, worst: pd.DataFrame, series_cmp: pd.DataFrame)
 
 def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp: pd.DataFrame | None = None,
                  timing: dict | None = None, not_run: list[dict] = (), failed: list[dict] = (),
-                 convergence: pd.DataFrame | None = None, lammps_wall: pd.DataFrame | None = None) -> dict:
+                 convergence: pd.DataFrame | None = None, lammps_wall: pd.DataFrame | None = None,
+                 claims: pd.DataFrame | None = None, table1: pd.DataFrame | None = None,
+                 energy_check: pd.DataFrame | None = None) -> dict:
     """Write report.md, report.html and the plots into out_dir; return the verdict dict.
 
     not_run: velocities the plan left out, with the reason; failed: out-of-the-box runs that the
@@ -255,6 +257,8 @@ def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp
                   "as a user would write it, the Debian version (29 Sep 2021) uses E/(2(1-nu)) instead of "
                   "E/(2(1-nu^2)) for the wall: (1+nu) times too stiff. The study gives the wall an explicit kn.", "",
                   _md_table(lammps_wall, ".4g"), ""]
+    if claims is not None:
+        lines += _paper_section(claims, table1, energy_check)
     lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, worst, series_cmp)] + [""]
     if timing:
         lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
@@ -281,6 +285,45 @@ def _convergence_section(orders: pd.DataFrame) -> list[str]:
             "least-squares slope of log|error| against log dt over the points above round-off "
             "(`results/convergence/orders.csv` per engine and geometry; `errors.csv` the points).", "",
             _md_table(summary, ".3g"), "", "![convergence](plots/convergence.png)", ""]
+
+
+def _paper_section(claims: pd.DataFrame, table1: pd.DataFrame | None, energy_check: pd.DataFrame | None) -> list[str]:
+    """Reproducing the paper: its claims with verdicts, its Table 1, its figures."""
+    counts = claims.verdict.str.replace(r"depends on criterion: .*", "depends on criterion", regex=True).value_counts()
+    lines = ["## Reproducing the paper", "",
+             "Every number below is recomputed by the reference solver (`results/paper/claims.csv`). "
+             "Verdict counts: " + ", ".join(f"{v} {k}" for k, v in counts.items()) + ".", "",
+             _md_table(claims[["claim", "where", "paper", "computed", "criterion", "verdict"]].astype(
+                 {"paper": str}), ".4g"), ""]
+    if table1 is not None:
+        t = table1[["case", "geometry", "beta", "Vc_solver_cm_s", "Vc_paper_rule_cm_s", "Vc_paper_cm_s",
+                    "ratio_rule_to_paper", "density_kg_m3", "density_for_paper_value_rule"]]
+        lines += ["### Table 1: the critical elastic velocity V_c [cm/s]", "",
+                  "Recomputed from the table's E, R and eta and the case files' densities, with the solver's "
+                  "K_c (x0) and with the paper's rule V_c = 3.7 beta^(5/2) V_D; V_c grows as density^2, so the "
+                  "last column is the density the printed value would need (`results/paper/table1.csv`).", "",
+                  _md_table(t, ".3g"), ""]
+    lines += ["### Figures", "",
+              "Fig. 1: phi_1 and phi_2 against K (paper's series dashed, reference solver x0 solid and F0 dotted); "
+              "inset: the energy loss xi.", "", "![Fig. 1](paper/fig1_phi.png)", "",
+              "Fig. 2 needs the experimental restitution data of the papers the authors cite (Lifshitz & Kolsky, "
+              "Kuwabara & Kono, Bridges et al., Gugan); the project has none of it and does not draw the figure.", "",
+              "Fig. 3 analogue: eps of every DEM run of every material, engine and geometry, against K.", "",
+              "![Fig. 3](paper/fig3_eps_collapse.png)", "",
+              "Fig. 4: energy partition in time from the reference solver (lines) and one DEM run per K (markers)."]
+    if energy_check is not None:
+        lines += ["", "Largest |DEM - reference| of each energy fraction during the contact:", "",
+                  _md_table(energy_check, ".2g")]
+    lines += ["", "![Fig. 4](paper/fig4_energy.png)", "",
+              "Fig. 5: the fracture velocity V_F/V_P against R/L_d (`postprocess/paper/fracture.py`). The paper does "
+              "not say which pressure, at which instant, reaches P0. Three readings are drawn: the elastic Hertz "
+              "pressure at maximum compression (the default: V_F/V_P > 1, tending to 1 for large bodies, the paper's "
+              "trend), the same at the instant of maximum force (higher V_F), and the total force, viscous part "
+              "included, over the contact at maximum force, which for small R/L_d gives V_F < V_P: the opposite "
+              "size effect. The curve is not universal: it needs P0/E* and the mass factor c_m of M* = c_m rho R^3 "
+              "(2 pi/3 for two equal spheres, 4 pi/3 on a plane) besides R/L_d. Higa et al.'s data are not "
+              "available to the project.", "", "![Fig. 5](paper/fig5_fracture.png)", ""]
+    return lines
 
 
 def _write_html(markdown_text: str, path: Path) -> None:

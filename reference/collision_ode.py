@@ -76,7 +76,8 @@ class CollisionTable:
         returns to zero (criterion F0, Schwager & Poeschel). For K = 0 they equal the x0 values.
     tau_0, eps_x0 : end time and restitution coefficient when the overlap returns to zero
         (criterion x0: the ODE as written, with its small attractive tail).
-    force_max, tau_force_max : maximum of the force x^{1/2}(5/4 x + K x') and its time.
+    force_max, tau_force_max, x_force_max : maximum of the force x^{1/2}(5/4 x + K x'), its time
+        and the compression at that time.
     dissipated_at_max, dissipated_F0, dissipated_x0 : dissipated energy at the maximum
         compression and at either end of the collision.
     energy_residual : largest |kinetic + elastic + dissipated - 1| over the phase end points.
@@ -91,6 +92,7 @@ class CollisionTable:
     eps_x0: np.ndarray
     force_max: np.ndarray
     tau_force_max: np.ndarray
+    x_force_max: np.ndarray
     dissipated_at_max: np.ndarray
     dissipated_F0: np.ndarray
     dissipated_x0: np.ndarray
@@ -287,7 +289,7 @@ def _solve_batch(K: np.ndarray) -> CollisionTable:
 
     return CollisionTable(
         K=K.copy(), x_max=x_max, tau_max=tau_max, tau_f=tau_f, eps_F0=-v_f,
-        tau_0=tau_0, eps_x0=-v_end, force_max=_force(x_fm, v_fm, K), tau_force_max=tau_fm,
+        tau_0=tau_0, eps_x0=-v_end, force_max=_force(x_fm, v_fm, K), tau_force_max=tau_fm, x_force_max=x_fm,
         dissipated_at_max=D_max, dissipated_F0=D_f, dissipated_x0=D_0, energy_residual=residual,
     )
 

@@ -38,6 +38,8 @@ def test_dry_run_plans_every_case_and_engine():
     engines = 3  # config/config.yaml: liggghts, yade, lammps
     assert re.search(rf"^run_engine\s+{engines * cases}$", out.stdout, flags=re.M), out.stdout
     assert "convergence_runs" in out.stdout and "lammps_wall_modulus" in out.stdout
+    for rule in ("paper_claims", "paper_figure_1", "paper_figure_3", "paper_figure_4", "paper_figure_5"):
+        assert rule in out.stdout, rule
     assert "gate" in out.stdout and "report" in out.stdout
 
 

@@ -7,7 +7,7 @@ from common import log_to
 from contact_model import load_case
 from engines.lammps import run_lammps
 from engines.liggghts import run_liggghts
-from engines.plan import plan_convergence
+from engines.plan import plan_at_velocity
 from engines.yade import run_yade
 
 RUNNERS = {"liggghts": run_liggghts, "yade": run_yade, "lammps": run_lammps}
@@ -15,7 +15,8 @@ RUNNERS = {"liggghts": run_liggghts, "yade": run_yade, "lammps": run_lammps}
 log = log_to(snakemake.log[0])
 c = snakemake.params.convergence
 engine = snakemake.wildcards.engine
-runs = plan_convergence(load_case(snakemake.input.case), engine, c["K"], c["time_step_factors"], c["velocity"])
+runs = plan_at_velocity(load_case(snakemake.input.case), engine, c["K"], c["time_step_factors"], c["velocity"],
+                        "convergence")
 out = Path(snakemake.output.manifest).parent
 log.info("%d %s convergence runs into %s", len(runs), engine, out)
 sweep = RUNNERS[engine](runs, out).raise_first()

@@ -17,7 +17,8 @@ timing = {"engine jobs": len(manifests),
           "engine process seconds (sum)": round(sum(m["engine_seconds"] for m in manifests), 2)}
 not_run = [row for p in plans for row in p["not_run"]]
 failed = [{"case": m["case"], "engine": m["engine"], **f} for m in manifests for f in m["failed"]]
-optional = {key: pd.read_csv(snakemake.input[key]) for key in ("convergence", "lammps_wall")
+optional = {key: pd.read_csv(snakemake.input[key])
+            for key in ("convergence", "lammps_wall", "claims", "table1", "energy_check")
             if key in snakemake.input.keys()}
 result = write_report(table, snakemake.params.tolerance, Path(snakemake.output.md).parent, series, timing,
                       not_run, failed, **optional)
