@@ -19,7 +19,7 @@ from pathlib import Path
 from contact_model import Body, ContactPair
 
 from .run_spec import RunSpec
-from .script_engine import ScriptEngine, number
+from .script_engine import ScriptEngine, common_variables, number
 
 DECK_OF_GEOMETRY = {"sphere-sphere": "two_spheres.in", "sphere-plane": "sphere_plane.in"}
 TANGENTIAL = "tangential linear_nohistory 0 0"  # required by the granular styles; zero friction
@@ -42,23 +42,11 @@ def model_words(spec: RunSpec) -> str:
 
 
 def deck_variables(spec: RunSpec, out: Path, decks: Path) -> dict[str, str]:
-    """The deck variables of one run (SI)."""
-    p = spec.pair
-    R1 = p.body_1.radius
-    gap = spec.initial_gap()
-    v1, v2 = spec.initial_velocities()
-    size = 3.0 * max(R1, R1 if p.body_2.is_plane else p.body_2.radius) + gap
-    var = {
-        "R1": number(R1), "d1": number(2 * R1), "rho1": number(p.body_1.density), "v1": number(v1),
-        "dt": number(spec.time_step), "steps": str(spec.steps()),
-        "box": number(size), "skin": number(0.25 * R1), "model": model_words(spec), "out": str(out),
-    }
-    if p.body_2.is_plane:
-        var["x1"] = number(-(R1 + gap))
-    else:
-        R2 = p.body_2.radius
-        var.update({"R2": number(R2), "d2": number(2 * R2), "rho2": number(p.body_2.density), "v2": number(v2),
-                    "x1": number(-(R1 + gap / 2)), "x2": number(R2 + gap / 2)})
+    """The deck variables of one run (SI): the common ones, the diameters and the model."""
+    var = {**common_variables(spec), "model": model_words(spec), "out": str(out)}
+    for i, body in ((1, spec.pair.body_1), (2, spec.pair.body_2)):
+        if not body.is_plane:
+            var[f"d{i}"] = number(2 * body.radius)
     return var
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .run_spec import RunSpec
-from .script_engine import ScriptEngine, number
+from .script_engine import ScriptEngine, common_variables, number
 
 DECK_OF_GEOMETRY = {"sphere-sphere": "two_spheres.in", "sphere-plane": "sphere_plane.in"}
 PROPERTIES_OF_LAW = {"viscoelastic": "properties_viscoelastic.in",
@@ -22,25 +22,14 @@ def deck_files(spec: RunSpec) -> list[str]:
 
 
 def deck_variables(spec: RunSpec, out: Path, decks: Path) -> dict[str, str]:
-    """The deck variables of one run (SI)."""
+    """The deck variables of one run (SI): the common ones, the law's property file and model."""
     p = spec.pair
-    R1 = p.body_1.radius
-    gap = spec.initial_gap()
-    v1, v2 = spec.initial_velocities()
-    size = 3.0 * max(R1, R1 if p.body_2.is_plane else p.body_2.radius) + gap
     var = {
-        "R1": number(R1), "rho1": number(p.body_1.density), "v1": number(v1),
-        "dt": number(spec.time_step), "steps": str(spec.steps()),
-        "box": number(size), "skin": number(0.25 * R1),
+        **common_variables(spec),
         "properties": str(decks / PROPERTIES_OF_LAW[spec.law]),
         "model_tail": "limitForce " + ("on" if spec.law == "viscoelastic_clipped" else "off"),
         "out": str(out),
     }
-    if p.body_2.is_plane:
-        var["x1"] = number(-(R1 + gap))
-    else:
-        var.update({"R2": number(p.body_2.radius), "rho2": number(p.body_2.density), "v2": number(v2),
-                    "x1": number(-(R1 + gap / 2)), "x2": number(p.body_2.radius + gap / 2)})
     if spec.law == "default":
         var["model_head"] = "model hertz tangential no_history"
         var["young"] = number(2.0 * p.E)  # poisson 0 on both: Y* = Y/2 = E*

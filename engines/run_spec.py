@@ -106,6 +106,21 @@ class RunSpec:
         m1, m2 = self.pair.body_1.mass, self.pair.body_2.mass
         return self.velocity * m2 / (m1 + m2), -self.velocity * m1 / (m1 + m2)
 
+    def initial_state(self) -> dict[str, float]:
+        """The numbers every engine needs to set the run up (SI): radius, density, velocity and
+        x-position of body 1 (a sphere moving +x, touching body 2 at x = 0 after the gap) and
+        of body 2 (absent for the plane x = 0), time step and number of steps."""
+        p = self.pair
+        R1, gap = p.body_1.radius, self.initial_gap()
+        v1, v2 = self.initial_velocities()
+        state = {"R1": R1, "rho1": p.body_1.density, "v1": v1, "dt": self.time_step, "steps": self.steps()}
+        if p.body_2.is_plane:
+            state["x1"] = -(R1 + gap)
+        else:
+            R2 = p.body_2.radius
+            state.update({"x1": -(R1 + gap / 2), "R2": R2, "rho2": p.body_2.density, "v2": v2, "x2": R2 + gap / 2})
+        return state
+
     def metadata(self) -> dict:
         """The case parameters recorded in every dump header."""
         p = self.pair

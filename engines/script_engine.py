@@ -36,6 +36,15 @@ def number(x: float) -> str:
     return f"{x:.17g}"
 
 
+def common_variables(spec: RunSpec) -> dict[str, str]:
+    """The deck variables both engines' decks share: the bodies' initial state (see
+    `RunSpec.initial_state`), the box half-width and the neighbour skin."""
+    state = spec.initial_state()
+    R1 = state["R1"]
+    box = 3.0 * max(R1, state.get("R2", R1)) + spec.initial_gap()
+    return {**{k: number(v) for k, v in state.items()}, "box": number(box), "skin": number(0.25 * R1)}
+
+
 @lru_cache(maxsize=None)
 def version_line(executable: str, prefix: str) -> str:
     """The first line the engine prints that starts with `prefix` (its version)."""

@@ -29,19 +29,9 @@ def driver_hash() -> str:
 def job_entry(spec: RunSpec, out: Path) -> dict:
     """The numbers of one run for the YADE driver (SI)."""
     p = spec.pair
-    gap = spec.initial_gap()
-    v1, v2 = spec.initial_velocities()
     params = p.engine_parameters("yade")
-    entry = {
-        "name": spec.name, "geometry": p.geometry, "law": spec.law, "out": str(out),
-        "R1": p.body_1.radius, "rho1": p.body_1.density, "v1": v1, "M": p.M,
-        "young": params["young"], "c": params["c"], "dt": spec.time_step, "steps": spec.steps(),
-    }
-    if p.body_2.is_plane:
-        entry["x1"] = -(p.body_1.radius + gap)
-    else:
-        entry.update({"R2": p.body_2.radius, "rho2": p.body_2.density, "v2": v2,
-                      "x1": -(p.body_1.radius + gap / 2), "x2": p.body_2.radius + gap / 2})
+    entry = {"name": spec.name, "geometry": p.geometry, "law": spec.law, "out": str(out),
+             **spec.initial_state(), "M": p.M, "young": params["young"], "c": params["c"]}
     if spec.law == "default":
         # Out of the box: the user asks Ip2_FrictMat_FrictMat_MindlinPhys for the restitution
         # coefficient itself (YADE turns en into betan with Thornton et al.'s 2013 fit).

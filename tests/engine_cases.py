@@ -40,6 +40,16 @@ def relative_errors(metrics, spec) -> dict[str, float]:
     }
 
 
+def dump_metrics(path):
+    """(header, CollisionMetrics) of a dump."""
+    from postprocess.collision_metrics import collision_metrics
+    from postprocess.dump_file import read_dump
+
+    meta, c = read_dump(path)
+    return meta, collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
+                                   impact_velocity=meta["impact_velocity"])
+
+
 def require_engine(executable: str, package: str):
     if shutil.which(executable) is None:
         pytest.skip(f"{executable} is not installed; install it with: sudo apt-get install {package}"

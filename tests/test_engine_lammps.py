@@ -3,11 +3,9 @@ and the fix wall/gran hertz/material defect of the Debian version as a regressio
 
 import pytest
 
-from engine_cases import TOLERANCE, VELOCITY, relative_errors, require_engine, steel_pair
+from engine_cases import TOLERANCE, VELOCITY, dump_metrics, relative_errors, require_engine, steel_pair
 from engines import EngineMissing, RunSpec
 from engines.lammps import run_lammps, wall_modulus_regression
-from postprocess.collision_metrics import collision_metrics
-from postprocess.dump_file import read_dump
 
 GEOMETRIES = ("sphere-sphere", "sphere-plane")
 
@@ -17,19 +15,13 @@ def _needs_lammps():
     require_engine("lmp", "lammps")
 
 
-def metrics(path):
-    meta, c = read_dump(path)
-    return meta, collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
-                                   impact_velocity=meta["impact_velocity"])
-
-
 @pytest.fixture(scope="module")
 def sweep(tmp_path_factory):
     require_engine("lmp", "lammps")
     specs = [RunSpec("steel", "lammps", law, steel_pair(g), VELOCITY)
              for g in GEOMETRIES for law in ("viscoelastic", "viscoelastic_clipped")]
     done = run_lammps(specs, tmp_path_factory.mktemp("lammps")).raise_first()
-    return {(s.law, s.pair.geometry): (s, *metrics(done.dumps[s.name])) for s in specs}
+    return {(s.law, s.pair.geometry): (s, *dump_metrics(done.dumps[s.name])) for s in specs}
 
 
 @pytest.mark.parametrize("geometry", GEOMETRIES)
@@ -49,8 +41,8 @@ def test_wall_hertz_material_is_stiffer_by_one_plus_nu(tmp_path):
     so overlap and contact time shrink by 1.3^{-2/5} (Hertz: delta_e ~ E^{-2/5})."""
     (explicit, material), sweep = wall_modulus_regression(tmp_path)
     sweep.raise_first()
-    _, right = metrics(sweep.dumps[explicit.name])
-    _, wrong = metrics(sweep.dumps[material.name])
+    _, right = dump_metrics(sweep.dumps[explicit.name])
+    _, wrong = dump_metrics(sweep.dumps[material.name])
     assert abs(relative_errors(right, explicit)["A"]) < 1e-5
     assert wrong.delta_max / right.delta_max == pytest.approx(1.3 ** -0.4, rel=1e-5)
     assert wrong.T_x0 / right.T_x0 == pytest.approx(1.3 ** -0.4, rel=1e-5)

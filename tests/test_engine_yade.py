@@ -4,11 +4,9 @@ run that misses the collision. All runs of a test share one YADE process, as the
 
 import pytest
 
-from engine_cases import TOLERANCE, VELOCITY, relative_errors, require_engine, steel_pair
+from engine_cases import TOLERANCE, VELOCITY, dump_metrics, relative_errors, require_engine, steel_pair
 from engines import EngineMissing, EngineRunFailed, RunSpec
 from engines import yade
-from postprocess.collision_metrics import collision_metrics
-from postprocess.dump_file import read_dump
 from reference import solve_collision
 
 GEOMETRIES = ("sphere-sphere", "sphere-plane")
@@ -17,12 +15,6 @@ GEOMETRIES = ("sphere-sphere", "sphere-plane")
 @pytest.fixture(autouse=True)
 def _needs_yade():
     require_engine("yade", "yade")
-
-
-def metrics(path):
-    meta, c = read_dump(path)
-    return meta, collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
-                                   impact_velocity=meta["impact_velocity"])
 
 
 @pytest.fixture(scope="module")
@@ -36,7 +28,7 @@ def sweep(tmp_path_factory):
               for g in GEOMETRIES for v in (VELOCITY, 0.01 * VELOCITY)]
     sweep = yade.run_yade(specs, tmp_path_factory.mktemp("yade")).raise_first()
     dumps = [sweep.dumps[s.name] for s in specs]
-    return {(s.law, s.pair.geometry, s.K > 0, s.velocity): (s, *metrics(d)) for s, d in zip(specs, dumps)}
+    return {(s.law, s.pair.geometry, s.K > 0, s.velocity): (s, *dump_metrics(d)) for s, d in zip(specs, dumps)}
 
 
 @pytest.mark.parametrize("geometry", GEOMETRIES)
