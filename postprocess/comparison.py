@@ -40,7 +40,7 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
     """The summary rows of one run. `meta` is its dump header; `reference_row` may be passed
     to reuse a solution of the ODE at the run's K."""
     K, V = meta["K"], meta["impact_velocity"]
-    T_e, A_e, delta_e, R = meta["T_e"], meta["A_e"], meta["delta_e"], meta["effective_radius"]
+    T_e, A_e, R = meta["T_e"], meta["A_e"], meta["effective_radius"]
     r = reference_row or solve_collisions([K]).row(0)
     series = load_paper_series() if series is None else series
     Qe = hertz_Q(T_e, A_e, V)

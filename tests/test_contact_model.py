@@ -72,7 +72,7 @@ def test_critical_velocity_rule():
 
 
 def test_engine_parameters_reproduce_the_model_force():
-    E, R, M, eta = STEEL["E"], STEEL["R"], STEEL["M"], STEEL["eta"]
+    E, R, eta = STEEL["E"], STEEL["R"], STEEL["eta"]
     pair = ContactPair("sphere-sphere", Body(2 * R, 7800), Body(2 * R, 7800), E, eta)
     delta, rate = 3e-6, 0.7
     model = 4 / 3 * E * math.sqrt(R) * delta**1.5 + 2 * eta * math.sqrt(R) * math.sqrt(delta) * rate

@@ -60,7 +60,7 @@ def test_missing_engine_names_the_install_command(tmp_path):
         liggghts.run_liggghts([spec], tmp_path, executable="liggghts-not-installed")
 
 
-def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path, monkeypatch):
+def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path):
     broken = tmp_path / "decks"
     broken.mkdir()
     for deck in liggghts.LIGGGHTS.decks.glob("*.in"):
