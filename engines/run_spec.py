@@ -11,8 +11,10 @@ Contact laws:
 - ``viscoelastic_clipped``: the same force clipped at zero (the bodies separate where the force
   vanishes: F0 physics). Represents criterion F0 only.
 - ``default``: what a user gets out of the box (LIGGGHTS ``model hertz``, YADE Hertz-Mindlin with
-  its restitution-coefficient damping), its restitution matched to the viscoelastic eps_F0 at
-  one velocity (``matched_K``). Compared with the viscoelastic reference, not expected to agree.
+  its restitution-coefficient damping, LAMMPS ``damping tsuji``), its restitution set to the
+  viscoelastic reference eps at one velocity (`engines.plan`, ``default_law_match_K``), under the
+  criterion that engine's default stands for (`DEFAULT_LAW_CRITERION`). Compared with the
+  viscoelastic reference, not expected to agree.
 """
 
 from __future__ import annotations
