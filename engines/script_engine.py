@@ -16,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import re
 import subprocess
+import tempfile
 import time
 from dataclasses import dataclass
 from functools import lru_cache
@@ -47,8 +48,11 @@ def common_variables(spec: RunSpec) -> dict[str, str]:
 
 @lru_cache(maxsize=None)
 def version_line(executable: str, prefix: str) -> str:
-    """The first line the engine prints that starts with `prefix` (its version)."""
-    out = subprocess.run([executable, "-log", "none"], input="", capture_output=True, text=True, timeout=60)
+    """The first line the engine prints that starts with `prefix` (its version). Run in a
+    scratch folder: LIGGGHTS opens its default log.liggghts before it reads `-log none`."""
+    with tempfile.TemporaryDirectory() as scratch:
+        out = subprocess.run([executable, "-log", "none"], input="", capture_output=True, text=True,
+                             timeout=60, cwd=scratch)
     for line in out.stdout.splitlines():
         if line.startswith(prefix):
             return line.strip()
