@@ -47,11 +47,14 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     if unknown:
         raise ValueError(f"unknown contact law(s) {sorted(unknown)}; known: {LAWS}")
     plan = Plan()
-    runs = plan.runs
+    allowed = {}  # geometry -> the velocities that are run
     for pair in case.pairs:
+        allowed[pair.geometry] = []
         for v in case.impact_velocities(pair, K_grid):
             ratio = pair.scales(v)["delta_e"] / pair.R
-            if ratio > max_overlap_ratio:
+            if ratio <= max_overlap_ratio:
+                allowed[pair.geometry].append(v)
+            else:
                 plan.skipped.append({
                     "case": case.name, "geometry": pair.geometry, "K": pair.dissipation_parameter(v),
                     "V": v, "delta_e/R*": ratio,
@@ -59,19 +62,12 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                               f"V = {v:.3g} m/s"})
     for engine in engines:
         for pair in case.pairs:
-            velocities = [v for v in case.impact_velocities(pair, K_grid)
-                          if pair.scales(v)["delta_e"] / pair.R <= max_overlap_ratio]
             for law in laws:
-                if law == "viscoelastic" or law == "viscoelastic_clipped":
-                    if pair.eta == 0 and law == "viscoelastic_clipped":
-                        continue  # an elastic contact never pulls: nothing to clip
-                    runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor) for v in velocities]
-                elif law == "default":
-                    if pair.eta == 0:
-                        continue
-                    e = matched_restitution(engine, match_K)
-                    runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e)
-                             for v in velocities]
+                if law != "viscoelastic" and pair.eta == 0:
+                    continue  # an elastic contact never pulls (nothing to clip) and has no restitution to match
+                e = matched_restitution(engine, match_K) if law == "default" else None
+                plan.runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e)
+                              for v in allowed[pair.geometry]]
     return plan
 
 

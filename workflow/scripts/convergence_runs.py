@@ -5,12 +5,8 @@ from pathlib import Path
 
 from common import log_to
 from contact_model import load_case
-from engines.lammps import run_lammps
-from engines.liggghts import run_liggghts
+from engines import run_sweep
 from engines.plan import plan_at_velocity
-from engines.yade import run_yade
-
-RUNNERS = {"liggghts": run_liggghts, "yade": run_yade, "lammps": run_lammps}
 
 log = log_to(snakemake.log[0])
 c = snakemake.params.convergence
@@ -19,7 +15,7 @@ runs = plan_at_velocity(load_case(snakemake.input.case), engine, c["K"], c["time
                         "convergence")
 out = Path(snakemake.output.manifest).parent
 log.info("%d %s convergence runs into %s", len(runs), engine, out)
-sweep = RUNNERS[engine](runs, out).raise_first()
+sweep = run_sweep(engine, runs, out).raise_first()
 with open(snakemake.output.manifest, "w") as f:
     json.dump({"engine": engine, "engine_seconds": sweep.engine_seconds,
                "dumps": [str(sweep.dumps[r.name]) for r in runs]}, f, indent=1)

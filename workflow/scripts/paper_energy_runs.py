@@ -5,19 +5,15 @@ from pathlib import Path
 
 from common import log_to
 from contact_model import load_case
-from engines.lammps import run_lammps
-from engines.liggghts import run_liggghts
+from engines import run_sweep
 from engines.plan import plan_at_velocity
-from engines.yade import run_yade
-
-RUNNERS = {"liggghts": run_liggghts, "yade": run_yade, "lammps": run_lammps}
 
 log = log_to(snakemake.log[0])
 e = snakemake.params.energy
 engine = snakemake.params.engine
 runs = plan_at_velocity(load_case(snakemake.input.case), engine, e["K"], [snakemake.params.time_step_factor],
                         e["velocity"], "energy")
-sweep = RUNNERS[engine](runs, Path(snakemake.output.manifest).parent).raise_first()
+sweep = run_sweep(engine, runs, Path(snakemake.output.manifest).parent).raise_first()
 with open(snakemake.output.manifest, "w") as f:
     json.dump({"engine": engine, "engine_seconds": sweep.engine_seconds,
                "dumps": [str(sweep.dumps[r.name]) for r in runs]}, f, indent=1)

@@ -10,13 +10,8 @@ from pathlib import Path
 
 from common import log_to
 from contact_model import load_case
-from engines.lammps import run_lammps
-from engines.liggghts import run_liggghts
+from engines import GATED_LAWS, run_sweep
 from engines.plan import plan_runs
-from engines.yade import run_yade
-
-RUNNERS = {"liggghts": run_liggghts, "yade": run_yade, "lammps": run_lammps}
-GATED_LAWS = ("viscoelastic", "viscoelastic_clipped")
 
 log = log_to(snakemake.log[0])
 s = snakemake.params.settings
@@ -26,7 +21,7 @@ runs = plan_runs(case, [engine], s["laws"], s["K_grid"], s["time_step_factor"], 
                  s["max_overlap_ratio"]).runs
 out = Path(snakemake.output.manifest).parent
 log.info("%s: %d %s runs into %s", case.name, len(runs), engine, out)
-sweep = RUNNERS[engine](runs, out)
+sweep = run_sweep(engine, runs, out)
 law = {r.name: r.law for r in runs}
 for name, err in sweep.failures.items():
     log.warning("run failed: %s", err)
