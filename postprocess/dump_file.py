@@ -64,6 +64,8 @@ def read_dump(path) -> tuple[dict, dict[str, np.ndarray]]:
         lines = path.read_text().splitlines()
     except OSError as err:
         raise DumpError(f"{path}: cannot read dump: {err.strerror}")
+    except UnicodeDecodeError as err:
+        raise DumpError(f"{path}: not a text file (byte {err.start} is not UTF-8)")
     body_start = 0
     for body_start, line in enumerate(lines):
         if not line.startswith("#"):

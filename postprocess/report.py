@@ -1,5 +1,7 @@
-"""The comparison report: results/report.md (read by people and CI), report.html, the plots, and
-a verdict (results/verdict.json) that the workflow's last step gates on.
+"""The comparison report: results/report.md (read by people and CI), report.html and the plots.
+
+The verdict it shows is decided in `postprocess.gate` (which also writes verdict.json and the
+JUnit XML); the report only presents it, FAIL at the top with every failing check named.
 
 Only the viscoelastic laws are gated (the model under test); the out-of-the-box laws and the
 paper's series are compared, not gated: where they depart from the reference, that is a finding.
@@ -7,7 +9,6 @@ paper's series are compared, not gated: where they depart from the reference, th
 
 from __future__ import annotations
 
-import json
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -21,9 +22,8 @@ import pandas as pd  # noqa: E402
 from engines import GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 
-from .comparison import largest_errors  # noqa: E402
+from .gate import GATED_QUANTITIES, check_name, write_atomically  # noqa: E402
 
-GATED_QUANTITIES = ("T", "A", "eps")
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
          "Q1": ("Q1/Q1e", "Q1e"), "Q2": ("Q2/Q2e", "Q2e")}
 MARKERS = {("liggghts", "sphere-sphere"): "o", ("liggghts", "sphere-plane"): "s",
@@ -33,15 +33,6 @@ COLORS = {"liggghts": "tab:blue", "yade": "tab:red", "lammps": "tab:green"}
 # Large hollow, medium hollow, small filled: where the engines agree all stay visible.
 SIZE = {"liggghts": 10, "lammps": 7, "yade": 4}
 HOLLOW = {"liggghts": True, "lammps": True, "yade": False}
-
-
-def verdict(table: pd.DataFrame, tolerance: dict) -> pd.DataFrame:
-    """Largest |error| per engine x gated law x geometry x criterion x quantity, with pass/fail."""
-    gated = table[table.law.isin(GATED_LAWS)]
-    worst = largest_errors(gated, GATED_QUANTITIES)
-    worst["tolerance"] = worst.quantity.map(tolerance)
-    worst["pass"] = worst.max_abs_error <= worst.tolerance
-    return worst
 
 
 def _ratio(table, q):
@@ -128,12 +119,13 @@ def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:
     cols = list(df.columns)
     lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for row in df.itertuples(index=False):
-        cells = [format(v, floatfmt) if isinstance(v, float) else str(v) for v in row]
+        # A '|' inside a cell (an engine's error message) would split the Markdown table.
+        cells = [format(v, floatfmt) if isinstance(v, float) else str(v).replace("|", "\\|") for v in row]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
-def findings(table: pd.DataFrame, worst: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
+def findings(table: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
     """Short statements computed from the results (numbers, not adjectives)."""
     out = []
     gated = table[table.law.isin(GATED_LAWS)]
@@ -179,52 +171,59 @@ def findings(table: pd.DataFrame, worst: pd.DataFrame, series_cmp: pd.DataFrame)
     return out
 
 
-def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp: pd.DataFrame | None = None,
-                 timing: dict | None = None, not_run: list[dict] = (), failed: list[dict] = (),
-                 convergence: pd.DataFrame | None = None, lammps_wall: pd.DataFrame | None = None,
-                 claims: pd.DataFrame | None = None, table1: pd.DataFrame | None = None,
-                 energy_check: pd.DataFrame | None = None) -> dict:
-    """Write report.md, report.html and the plots into out_dir; return the verdict dict.
+def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_dir: Path,
+                 series_cmp: pd.DataFrame | None = None, timing: dict | None = None, not_run: list[dict] = (),
+                 failed_runs: list[dict] = (), convergence: pd.DataFrame | None = None,
+                 lammps_wall: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
+                 table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None) -> None:
+    """Write report.md, report.html and the plots into out_dir.
 
-    not_run: velocities the plan left out, with the reason; failed: out-of-the-box runs that the
-    engine could not complete (the gated laws never get here: their failure stops the workflow).
+    checks, verdict: from `postprocess.gate` (the report shows them; it decides nothing);
+    not_run: velocities the plan left out, with the reason; failed_runs: runs the engine did not
+    complete (of every law: gated ones also fail their checks).
     """
     out_dir = Path(out_dir)
     plots = out_dir / "plots"
     plots.mkdir(parents=True, exist_ok=True)
-    worst = verdict(table, tolerance)
-    failed = worst[~worst["pass"]]
-    K_max = max(0.5, float(table.K.max()) * 1.05)
-    plot_ratios(table, "x0", plots / "ratios_x0.png", K_max)
-    plot_ratios(table, "F0", plots / "ratios_F0.png", K_max)
-    plot_errors(table, tolerance, plots / "errors.png")
-    if (table.law == "default").any():
+    tolerance = verdict["tolerance"]
+    failing = checks[~checks["pass"]]
+    has_rows = len(table) > 0
+    K_max = max(0.5, float(table.K.max()) * 1.05) if has_rows else 0.5
+    if has_rows:
+        plot_ratios(table, "x0", plots / "ratios_x0.png", K_max)
+        plot_ratios(table, "F0", plots / "ratios_F0.png", K_max)
+        plot_errors(table, tolerance, plots / "errors.png")
+    if has_rows and (table.law == "default").any():
         plot_default_laws(table, plots / "default_laws.png", K_max)
 
-    versions = table.groupby("engine").engine_version.unique()
     lines = [
         "# Viscoelastic Hertz contact in DEM engines: comparison report", "",
-        f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `results/summary.csv` "
-        f"({len(table)} rows: one per engine run and end-of-collision criterion).", "",
-        f"**Verdict: {'PASS' if failed.empty else 'FAIL'}** — tolerances (relative, engine vs reference): "
+        f"**Verdict: {verdict['verdict']}** — {verdict['checked'] - verdict['failed']} of {verdict['checked']} gated "
+        "checks (engine x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs reference): "
         + ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES) + ".", "",
     ]
-    if not failed.empty:
-        lines += ["Failing: " + "; ".join(
-            f"{r.engine} {r.law} {r.geometry} {r.criterion} {r.quantity}: {r.max_abs_error:.2e} > {r.tolerance:g} "
-            f"(case {r.case}, K = {r.at_K:.3g})" for r in failed.itertuples()), ""]
-    lines += ["## Engines", ""] + [f"- **{e}**: {', '.join(v)}" for e, v in versions.items()] + [""]
-    lines += ["Cases: " + ", ".join(f"[{c}]({c}/summary.csv)" for c in sorted(table.case.unique())), ""]
+    if verdict["verdict"] != "PASS":
+        lines += ["Failing checks:", ""] + [f"- {f}" for f in verdict["failures"]] + [""]
+    lines += [f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `results/summary.csv` "
+              f"({len(table)} rows: one per engine run and end-of-collision criterion; sha256 "
+              f"{verdict['summary_sha256'][:12]}…). Machine-readable: `verdict.json`, `junit.xml` (one test case "
+              "per check).", ""]
+    if has_rows:
+        versions = table.groupby("engine").engine_version.unique()
+        lines += ["## Engines", ""] + [f"- **{e}**: {', '.join(v)}" for e, v in versions.items()] + [""]
+        lines += ["Cases: " + ", ".join(f"[{c}]({c}/summary.csv)" for c in sorted(table.case.unique())), ""]
+    shown = checks.assign(**{"pass": checks["pass"].map({True: "pass", False: "FAIL"})})
     lines += ["## Largest relative error, engine vs reference solver", "",
               "Viscoelastic law with the attractive tail kept (criteria x0 and F0 from one trajectory) and "
-              "with the force clipped at zero (criterion F0 only).", "",
-              _md_table(worst.assign(**{"pass": worst["pass"].map({True: "pass", False: "FAIL"})})[
-                  ["engine", "law", "geometry", "criterion", "quantity", "max_abs_error", "tolerance", "pass",
-                   "case", "at_K"]]), ""]
-    lines += ["## Against K", "", "Engines as markers, the reference solver as a line, the paper's series dashed.", "",
-              "![criterion x0](plots/ratios_x0.png)", "", "![criterion F0](plots/ratios_F0.png)", "",
-              "![errors](plots/errors.png)", ""]
-    if (table.law == "default").any():
+              "with the force clipped at zero (criterion F0 only). A check also fails when one of its runs failed "
+              "or left no result (`reason`).", "",
+              _md_table(shown[["engine", "law", "geometry", "criterion", "quantity", "max_abs_error", "tolerance",
+                               "pass", "case", "at_K", "reason"]]), ""]
+    if has_rows:
+        lines += ["## Against K", "", "Engines as markers, the reference solver as a line, the paper's series dashed.",
+                  "", "![criterion x0](plots/ratios_x0.png)", "", "![criterion F0](plots/ratios_F0.png)", "",
+                  "![errors](plots/errors.png)", ""]
+    if has_rows and (table.law == "default").any():
         d = table[table.law == "default"]
         drift = d.groupby(["engine", "geometry", "criterion"]).agg(
             restitution=("matched_restitution", "first"),
@@ -242,14 +241,16 @@ def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp
         pub = series_cmp.dropna(subset=["paper"])
         lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",
                   _md_table(pub[["quantity", "order", "equation", "paper", "computed", "difference"]], ".5g"), ""]
-    if len(not_run) or len(failed):
+    if len(not_run) or len(failed_runs):
         lines += ["## Runs not made or not completed", ""]
         if len(not_run):
             lines += ["Not run (see `results/<case>/plan.json`):", "",
                       _md_table(pd.DataFrame(list(not_run))[["case", "geometry", "K", "V", "delta_e/R*", "reason"]]), ""]
-        if len(failed):
-            lines += ["Out-of-the-box runs the engine did not complete (not gated):", "",
-                      _md_table(pd.DataFrame(list(failed))[["case", "engine", "run", "problem", "log"]]), ""]
+        if len(failed_runs):
+            lines += ["Runs the engine did not complete (a gated law's failure fails its checks above; the "
+                      "out-of-the-box laws are not gated):", "",
+                      _md_table(pd.DataFrame(list(failed_runs))[["case", "engine", "law", "run", "problem", "log"]]),
+                      ""]
     if convergence is not None:
         lines += _convergence_section(convergence)
     if lammps_wall is not None:
@@ -262,17 +263,13 @@ def write_report(table: pd.DataFrame, tolerance: dict, out_dir: Path, series_cmp
                   _md_table(lammps_wall, ".4g"), ""]
     if claims is not None:
         lines += _paper_section(claims, table1, energy_check)
-    lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, worst, series_cmp)] + [""]
+    if has_rows:
+        lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, series_cmp)] + [""]
     if timing:
         lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
     text = "\n".join(lines)
-    (out_dir / "report.md").write_text(text)
+    write_atomically(out_dir / "report.md", text)
     _write_html(text, out_dir / "report.html")
-    result = {"pass": bool(failed.empty),
-              "failures": [f"{r.engine} {r.law} {r.geometry} {r.criterion} {r.quantity}: {r.max_abs_error:.3e} "
-                           f"> {r.tolerance:g} (case {r.case}, K = {r.at_K:.4g})" for r in failed.itertuples()],
-              "checked": int(len(worst))}
-    return result
 
 
 def _convergence_section(orders: pd.DataFrame) -> list[str]:
@@ -333,11 +330,7 @@ def _write_html(markdown_text: str, path: Path) -> None:
     import markdown
 
     body = markdown.markdown(markdown_text, extensions=["tables"])
-    path.write_text("<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
+    write_atomically(path, "<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
                     "<style>body{font-family:sans-serif;max-width:1300px;margin:auto}table{border-collapse:collapse}"
                     "td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}img{max-width:100%}</style></head>"
                     f"<body>{body}</body></html>")
-
-
-def write_verdict(result: dict, path: Path) -> None:
-    Path(path).write_text(json.dumps(result, indent=1))

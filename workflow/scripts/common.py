@@ -1,7 +1,10 @@
-"""Helpers shared by the workflow scripts: logging into the rule's log file."""
+"""Helpers shared by the workflow scripts: logging into the rule's log file, and withdrawing the
+study's verdict before a rule changes any result."""
 
 import logging
 import sys
+
+from postprocess.gate import withdraw_verdict
 
 
 def log_to(path):
@@ -14,3 +17,19 @@ def log_to(path):
 
     sys.excepthook = excepthook
     return logging.getLogger("study")
+
+
+def start_rule(smk, results_dir="results"):
+    """log_to(the rule's log), after removing the verdict files of the study (`results_dir`) and,
+    for a rule of one case, of that case (`results_dir/<case>`).
+
+    Every rule that writes results calls this first: a rerun that then fails or is killed leaves
+    no PASS (or FAIL) beside results that it was not computed from. The report and case_verdict
+    rules write the verdicts anew from the finished results.
+    """
+    log = log_to(smk.log[0])
+    case = dict(smk.wildcards.items()).get("case")
+    for folder in [results_dir] + ([f"{results_dir}/{case}"] if case else []):
+        for path in withdraw_verdict(folder):
+            log.info("withdrew %s: results are about to change", path)
+    return log

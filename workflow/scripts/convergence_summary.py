@@ -1,7 +1,5 @@
 """Snakemake script: errors against the time step, fitted orders, and the convergence plot."""
 
-import json
-
 import matplotlib
 
 matplotlib.use("Agg")
@@ -10,19 +8,15 @@ from matplotlib.ticker import NullFormatter  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from common import log_to  # noqa: E402
-from postprocess.collision_metrics import collision_metrics  # noqa: E402
+from common import start_rule  # noqa: E402
 from postprocess.comparison import comparison_rows  # noqa: E402
 from postprocess.convergence import convergence_table  # noqa: E402
-from postprocess.dump_file import read_dump  # noqa: E402
+from postprocess.run_manifest import manifest_dumps  # noqa: E402
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
 rows = []
 for manifest in snakemake.input.manifests:
-    for path in json.load(open(manifest))["dumps"]:
-        meta, c = read_dump(path)
-        m = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
-                              impact_velocity=meta["impact_velocity"])
+    for _, meta, _, m in manifest_dumps(manifest):
         for r in comparison_rows(meta, m):
             rows.append({k: r[k] for k in ("engine", "geometry", "criterion", "K", "err_T", "err_A", "err_eps")}
                         | {"K": round(meta["K"], 12), "time_step_factor": meta["time_step_factor"]})

@@ -1,16 +1,26 @@
-"""Snakemake script: the study's last step. Exits non-zero, naming them, when tolerances fail."""
+"""Snakemake script: the study's (or one case's) last step. Writes gate.txt on PASS; on FAIL
+exits non-zero naming every failing check, and writes nothing that could say PASS.
+
+It refuses a verdict that was not computed from the summary beside it (sha256 mismatch).
+"""
 
 import json
 import sys
 
 from common import log_to
+from postprocess.gate import file_sha256, write_atomically
 
 log = log_to(snakemake.log[0])
 verdict = json.load(open(snakemake.input.verdict))
+summary_sha = file_sha256(snakemake.input.summary)
+if verdict.get("summary_sha256") != summary_sha:
+    sys.exit(f"{snakemake.input.verdict} was computed from another {snakemake.input.summary} "
+             "(sha256 differs): rerun the study, e.g. snakemake -j2 all --forcerun report")
 if not verdict["pass"]:
-    message = "tolerance exceeded (see results/report.md):\n  " + "\n  ".join(verdict["failures"])
+    message = (f"FAIL: {verdict['failed']} of {verdict['checked']} gated checks fail (see "
+               f"{snakemake.params.report}):\n  " + "\n  ".join(verdict["failures"]))
     log.error(message)
     sys.exit(message)
-with open(snakemake.output[0], "w") as f:
-    f.write(f"PASS: {verdict['checked']} engine x law x geometry x criterion x quantity checks within tolerance\n")
+write_atomically(snakemake.output[0], f"PASS: {verdict['checked']} engine x law x geometry x criterion x quantity "
+                                      f"checks within tolerance (summary sha256 {summary_sha})\n")
 log.info("PASS")

@@ -2,11 +2,11 @@
 
 from pathlib import Path
 
-from common import log_to
+from common import start_rule
 from postprocess.paper.claims import claims
 from postprocess.paper.table1 import recompute_table_1
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
 table = claims()
 table.to_csv(snakemake.output.claims, index=False, float_format="%.6g")
 recompute_table_1(Path(snakemake.input.cases[0]).parent).to_csv(snakemake.output.table1, index=False,

@@ -1,20 +1,17 @@
 """Snakemake script: the DEM runs overlaid on the paper's Fig. 4 (one engine process)."""
 
-import json
-from pathlib import Path
-
-from common import log_to
+from common import start_rule
 from contact_model import load_case
 from engines import run_sweep
 from engines.plan import plan_at_velocity
+from postprocess.run_manifest import write_manifest
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
 e = snakemake.params.energy
 engine = snakemake.params.engine
 runs = plan_at_velocity(load_case(snakemake.input.case), engine, e["K"], [snakemake.params.time_step_factor],
                         e["velocity"], "energy")
-sweep = run_sweep(engine, runs, Path(snakemake.output.manifest).parent).raise_first()
-with open(snakemake.output.manifest, "w") as f:
-    json.dump({"engine": engine, "engine_seconds": sweep.engine_seconds,
-               "dumps": [str(sweep.dumps[r.name]) for r in runs]}, f, indent=1)
+sweep = run_sweep(engine, runs, snakemake.output.runs).raise_first()
+write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs], engine=engine,
+               engine_seconds=sweep.engine_seconds)
 log.info("%d runs", len(runs))

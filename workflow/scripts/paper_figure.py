@@ -1,15 +1,13 @@
 """Snakemake script: one of the paper's figures (rule paper_figure_1, _3, _4 or _5)."""
 
-import json
-
 import pandas as pd
 
-from common import log_to
+from common import start_rule
 from contact_model import load_case
-from postprocess.dump_file import read_dump
+from postprocess.run_manifest import manifest_dumps
 from postprocess.paper import figures
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
 which = snakemake.params.figure
 if which == 1:
     figures.figure_1(snakemake.output.png)
@@ -17,8 +15,7 @@ elif which == 3:
     figures.figure_3(pd.read_csv(snakemake.input.summary), snakemake.output.png)
 elif which == 4:
     dumps = {}
-    for path in json.load(open(snakemake.input.manifest))["dumps"]:
-        meta, cols = read_dump(path)
+    for _, meta, cols, _ in manifest_dumps(snakemake.input.manifest):
         if meta["geometry"] == "sphere-sphere":
             dumps[round(meta["K"], 9)] = (meta, cols)
     check = figures.figure_4(dumps, snakemake.output.png)

@@ -2,19 +2,19 @@
 
 import json
 
-from common import log_to
+from common import start_rule
 from contact_model import load_case
 from engines.plan import plan_runs
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
 s = snakemake.params.settings
 case = load_case(snakemake.input.case)
 plan = plan_runs(case, s["engines"], s["laws"], s["K_grid"], s["time_step_factor"], s["default_law_match_K"],
                  s["max_overlap_ratio"])
 runs = plan.runs
 listed = [{"name": r.name, "engine": r.engine, "law": r.law, "geometry": r.pair.geometry,
-         "velocity": r.velocity, "K": r.K, "time_step": r.time_step, "steps": r.steps(),
-         "matched_restitution": r.matched_restitution} for r in runs]
+           "represents": list(r.represents), "velocity": r.velocity, "K": r.K, "time_step": r.time_step,
+           "steps": r.steps(), "matched_restitution": r.matched_restitution} for r in runs]
 with open(snakemake.output[0], "w") as f:
     json.dump({"case": case.name, "file": case.path, "runs": listed, "not_run": plan.skipped}, f, indent=1)
 log.info("%s: %d runs planned, %d velocities not run", case.path, len(listed), len(plan.skipped))

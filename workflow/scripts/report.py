@@ -1,27 +1,40 @@
-"""Snakemake script: the comparison report, its plots and the verdict the gate reads."""
+"""Snakemake script: the verdict (verdict.json, junit.xml) and the comparison report with its plots.
+
+The checks are decided in `postprocess.gate` from the plans (what should exist), the summary
+(what landed) and the manifests (what failed); the report shows them, FAIL at the top.
+"""
 
 import json
 from pathlib import Path
 
 import pandas as pd
 
-from common import log_to
-from postprocess.report import write_report, write_verdict
+from common import start_rule
+from postprocess.gate import file_sha256, gate_checks, verdict_of, write_junit, write_verdict
+from postprocess.report import write_report
+from postprocess.run_manifest import read_manifest
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
+tolerance = snakemake.params.tolerance
 table = pd.read_csv(snakemake.input.summary)
 series = pd.read_csv(snakemake.input.series)
-manifests = [json.load(open(m)) for m in snakemake.input.manifests]
+manifests = [read_manifest(m) for m in snakemake.input.manifests]
 plans = [json.load(open(p)) for p in snakemake.input.plans]
+plan_runs = pd.DataFrame([{"case": p["case"], **r} for p in plans for r in p["runs"]])
+failed_runs = [{"case": m["case"], "engine": m["engine"], **f} for m in manifests for f in m["failed"]]
+checks = gate_checks(table, plan_runs, pd.DataFrame(failed_runs), tolerance)
+verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
 timing = {"engine jobs": len(manifests),
           "engine process seconds (sum)": round(sum(m["engine_seconds"] for m in manifests), 2)}
 not_run = [row for p in plans for row in p["not_run"]]
-failed = [{"case": m["case"], "engine": m["engine"], **f} for m in manifests for f in m["failed"]]
 optional = {key: pd.read_csv(snakemake.input[key])
             for key in ("convergence", "lammps_wall", "claims", "table1", "energy_check")
             if key in snakemake.input.keys()}
-result = write_report(table, snakemake.params.tolerance, Path(snakemake.output.md).parent, series, timing,
-                      not_run, failed, **optional)
-write_verdict(result, snakemake.output.verdict)
-log.info("verdict: %s (%d checks); failures: %s", "PASS" if result["pass"] else "FAIL",
-         result["checked"], result["failures"] or "none")
+out = Path(snakemake.output.md).parent
+checks.to_csv(snakemake.output.checks, index=False, float_format="%.6g")
+write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, **optional)
+write_junit(checks, snakemake.output.junit)
+write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
+log.info("verdict: %s (%d checks, %d failing)", verdict["verdict"], verdict["checked"], verdict["failed"])
+for failure in verdict["failures"]:
+    log.warning("FAIL %s", failure)

@@ -2,9 +2,9 @@
 
 import pandas as pd
 
-from common import log_to
+from common import start_rule
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
 table = pd.concat([pd.read_csv(p) for p in snakemake.input], ignore_index=True)
 table.to_csv(snakemake.output[0], index=False, float_format="%.12g")
 log.info("%d rows from %d cases", len(table), len(snakemake.input))

@@ -1,0 +1,202 @@
+"""The study's gate: one check per engine x gated law x geometry x criterion x quantity.
+
+A check is made for every combination the plans asked for, whether or not its runs landed:
+
+    pass  <=>  every planned run of the group landed, none failed, and
+               max over its runs of |q_engine / q_reference - 1| <= tolerance[q]    (q = T, A, eps)
+
+So a run that crashed, hung or left no result fails its checks (it can never hide as a missing
+row), a NaN error fails, and a study with no check at all is not a PASS. The verdict goes to
+`verdict.json` (read by the `gate` rule) and to JUnit XML (one test case per check, read by CI).
+
+Files are written atomically (a temporary file, then `os.replace`), so a reader sees the old
+file or the new one, never half of one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from engines.run_spec import GATED_LAWS
+
+GATED_QUANTITIES = ("T", "A", "eps")
+GROUP = ["engine", "law", "geometry", "criterion"]
+#: The files that carry a verdict; any rule that changes results withdraws them first.
+VERDICT_FILES = ("gate.txt", "verdict.json", "junit.xml", "report.md", "report.html")
+
+
+def planned_groups(plan_runs: pd.DataFrame) -> pd.DataFrame:
+    """The gated runs of the plans, one row per run and criterion it represents.
+
+    Parameters
+    ----------
+    plan_runs : DataFrame
+        One row per planned run: case, name, engine, law, geometry, represents (list of criteria).
+
+    Returns
+    -------
+    DataFrame with columns case, run, engine, law, geometry, criterion.
+    """
+    if plan_runs.empty:
+        return pd.DataFrame(columns=["case", "run", *GROUP])
+    gated = plan_runs[plan_runs.law.isin(GATED_LAWS)].explode("represents")
+    return gated.rename(columns={"name": "run", "represents": "criterion"})[["case", "run", *GROUP]]
+
+
+def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.DataFrame,
+                tolerance: dict) -> pd.DataFrame:
+    """Every gated check with its outcome.
+
+    Parameters
+    ----------
+    table : DataFrame
+        summary.csv: one row per landed run and criterion, with columns run, case, K, the GROUP
+        columns and err_T, err_A, err_eps (relative errors, engine vs reference).
+    plan_runs : DataFrame
+        The planned runs (see `planned_groups`).
+    failed_runs : DataFrame
+        Runs the engine did not complete: columns run, problem, log.
+    tolerance : dict
+        Relative tolerance per quantity, e.g. ``{"T": 5e-4, "A": 5e-4, "eps": 5e-4}``.
+
+    Returns
+    -------
+    DataFrame, one row per check, sorted by GROUP and quantity: the GROUP columns, quantity,
+    planned, landed, failed (run counts), max_abs_error (NaN without a result), at_K, case,
+    tolerance, pass (bool) and reason (why it failed; empty when it passed).
+    """
+    planned = planned_groups(plan_runs)
+    landed = table[table.law.isin(GATED_LAWS)] if len(table) else table
+    failed_runs = failed_runs if len(failed_runs) else pd.DataFrame(columns=["run", "problem", "log"])
+    failed = planned.merge(failed_runs[["run", "problem", "log"]], on="run", how="inner")
+    keys = sorted(set(map(tuple, planned[GROUP].to_numpy())) |
+                  (set(map(tuple, landed[GROUP].to_numpy())) if len(landed) else set()))
+    rows = []
+    for key in keys:
+        sel_plan = planned[(planned[GROUP] == key).all(axis=1)]
+        sel = landed[(landed[GROUP] == key).all(axis=1)] if len(landed) else landed
+        sel_failed = failed[(failed[GROUP] == key).all(axis=1)]
+        n_planned, n_landed, n_failed = len(sel_plan), len(sel), len(sel_failed)
+        missing = sorted(set(sel_plan.run) - set(sel.run if len(sel) else ()) - set(sel_failed.run))
+        for q in GATED_QUANTITIES:
+            row = {**dict(zip(GROUP, key)), "quantity": q, "planned": n_planned, "landed": n_landed,
+                   "failed": n_failed, "max_abs_error": math.nan, "at_K": math.nan, "case": "",
+                   "tolerance": float(tolerance[q]), "pass": False, "reason": ""}
+            if n_landed:
+                errors = np.abs(sel[f"err_{q}"].to_numpy(dtype=float))
+                bad = np.isnan(errors)
+                i = int(np.nanargmax(errors)) if not bad.all() else 0
+                row.update(max_abs_error=float(errors[i]), at_K=float(sel.K.iloc[i]), case=str(sel.case.iloc[i]))
+            reasons = []
+            if n_failed:
+                first = sel_failed.iloc[0]
+                reasons.append(f"{n_failed} of {n_planned} runs failed; first: {first.run}: {first.problem} "
+                               f"(engine log: {first.log})")
+            if missing:
+                reasons.append(f"{len(missing)} of {n_planned} planned runs have no result (first: {missing[0]})")
+            if n_landed and np.isnan(np.abs(sel[f"err_{q}"].to_numpy(dtype=float))).any():
+                reasons.append("a run's error is NaN (the engine gave no value for this criterion)")
+            if n_landed == 0 and not reasons:
+                reasons.append("no run landed")
+            if n_landed and not math.isnan(row["max_abs_error"]) and row["max_abs_error"] > row["tolerance"]:
+                reasons.insert(0, f"{row['max_abs_error']:.3e} > {row['tolerance']:g} "
+                                  f"(case {row['case']}, K = {row['at_K']:.4g})")
+            row["pass"] = not reasons
+            row["reason"] = "; ".join(reasons)
+            rows.append(row)
+    columns = [*GROUP, "quantity", "planned", "landed", "failed", "max_abs_error", "at_K", "case", "tolerance",
+               "pass", "reason"]
+    return pd.DataFrame(rows, columns=columns)
+
+
+def check_name(row) -> str:
+    """'engine law geometry criterion quantity', how a check is named everywhere."""
+    return f"{row['engine']} {row['law']} {row['geometry']} {row['criterion']} {row['quantity']}"
+
+
+def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> dict:
+    """The verdict: PASS only when there are checks and every one passes."""
+    failing = checks[~checks["pass"]]
+    ok = len(checks) > 0 and failing.empty
+    failures = [f"{check_name(r)}: {r['reason']}" for _, r in failing.iterrows()]
+    if not len(checks):
+        failures = ["no gated check was made: the plans hold no run of a gated law"]
+    return {"verdict": "PASS" if ok else "FAIL", "pass": ok, "checked": int(len(checks)),
+            "failed": int(len(failing)) if len(checks) else 0, "failures": failures,
+            "tolerance": {q: float(tolerance[q]) for q in GATED_QUANTITIES}, "summary_sha256": summary_sha256}
+
+
+def junit_xml(checks: pd.DataFrame, suite: str = "hertz-dem-gate") -> ET.ElementTree:
+    """JUnit XML: one <testcase> per check (classname 'engine.law.geometry.criterion', name the
+    quantity), a <failure> with the reason where it failed."""
+    n_fail = int((~checks["pass"]).sum()) if len(checks) else 0
+    suites = ET.Element("testsuites", name=suite, tests=str(len(checks)), failures=str(n_fail), errors="0")
+    ts = ET.SubElement(suites, "testsuite", name=suite, tests=str(len(checks)), failures=str(n_fail), errors="0",
+                       skipped="0")
+    for _, r in checks.iterrows():
+        case = ET.SubElement(ts, "testcase", classname=".".join(str(r[k]) for k in GROUP), name=str(r["quantity"]),
+                             time="0")
+        measured = ("no result" if math.isnan(r["max_abs_error"]) else
+                    f"max |relative error| {r['max_abs_error']:.3e} (tolerance {r['tolerance']:g}) at K = "
+                    f"{r['at_K']:.4g}, case {r['case']}; {r['landed']} of {r['planned']} runs landed")
+        if not r["pass"]:
+            failure = ET.SubElement(case, "failure", message=r["reason"], type="tolerance" if r["failed"] == 0
+                                    and r["landed"] == r["planned"] else "engine-run")
+            failure.text = measured
+        ET.SubElement(case, "system-out").text = measured
+    if not len(checks):
+        case = ET.SubElement(ts, "testcase", classname="gate", name="any gated check", time="0")
+        ET.SubElement(case, "failure", message="no gated check was made", type="empty")
+        suites.set("tests", "1"), ts.set("tests", "1"), suites.set("failures", "1"), ts.set("failures", "1")
+    ET.indent(suites)
+    return ET.ElementTree(suites)
+
+
+def write_atomically(path, data: bytes | str) -> None:
+    """Write `path` so that it appears only complete (a temporary file, then os.replace)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.part")
+    if isinstance(data, str):
+        data = data.encode()
+    tmp.write_bytes(data)
+    os.replace(tmp, path)
+
+
+def write_junit(checks: pd.DataFrame, path) -> None:
+    tree = junit_xml(checks)
+    import io
+
+    buf = io.BytesIO()
+    tree.write(buf, encoding="utf-8", xml_declaration=True)
+    write_atomically(path, buf.getvalue())
+
+
+def write_verdict(verdict: dict, path) -> None:
+    write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+
+
+def file_sha256(path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def withdraw_verdict(results_dir="results") -> list[str]:
+    """Remove every file that carries a verdict from `results_dir` (the names removed).
+
+    Called first by every rule that changes results: a rerun that fails or is interrupted
+    then leaves no verdict beside results it does not describe.
+    """
+    removed = []
+    for name in VERDICT_FILES:
+        p = Path(results_dir) / name
+        if p.exists():
+            p.unlink()
+            removed.append(str(p))
+    return removed

@@ -1,0 +1,87 @@
+"""The manifest of an engine job: which dumps it wrote, their sha256, and which runs failed.
+
+    {"case": "steel", "engine": "liggghts", "engine_seconds": 0.61,
+     "dumps": [{"path": "runs/<run>.csv", "sha256": "…"}, …],
+     "failed": [{"run": "<run>", "law": "viscoelastic", "problem": "…", "log": "runs/liggghts.log"}, …]}
+
+Paths are relative to the manifest's own folder, so a copied or moved results folder reads its
+own dumps, never the original's. Every dump is verified against its sha256 when it is read: a
+dump edited, truncated or replaced after the run fails loudly, naming the file, instead of
+flowing into the summary.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+from .collision_metrics import CollisionMetrics, ExtractionError, collision_metrics
+from .dump_file import DumpError, read_dump
+
+
+def sha256_of(path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def write_manifest(path, dumps, failed=(), **fields) -> dict:
+    """Write the manifest `path` (atomically) listing `dumps` (absolute or relative paths, each
+    hashed now) and `failed` (dicts with run, law, problem, log); `fields` go in as they are."""
+    path = Path(path)
+    here = path.parent.resolve()
+
+    def rel(p):
+        return os.path.relpath(Path(p).resolve(), here)
+
+    content = {**fields,
+               "dumps": [{"path": rel(d), "sha256": sha256_of(d)} for d in dumps],
+               "failed": [{**f, "log": rel(f["log"])} if f.get("log") else dict(f) for f in failed]}
+    tmp = path.with_name(f".{path.name}.part")
+    tmp.write_text(json.dumps(content, indent=1) + "\n")
+    os.replace(tmp, path)
+    return content
+
+
+def read_manifest(path) -> dict:
+    """The manifest with every dump path made usable from here (joined to the manifest's folder)."""
+    path = Path(path)
+    try:
+        content = json.loads(path.read_text())
+        for d in content["dumps"]:
+            d["path"] = str(path.parent / d["path"])
+        for f in content.get("failed", []):
+            if f.get("log"):
+                f["log"] = str(path.parent / f["log"])
+    except (OSError, ValueError, KeyError, TypeError) as err:
+        raise DumpError(f"{path}: not a readable engine-job manifest ({err})")
+    return content
+
+
+def verified_dump(path, sha256: str):
+    """read_dump(path) after checking that the file is the one the run wrote."""
+    try:
+        found = sha256_of(path)
+    except OSError as err:
+        raise DumpError(f"{path}: cannot read dump: {err.strerror}")
+    if found != sha256:
+        raise DumpError(f"{path}: the dump changed after the engine job wrote it (sha256 {found[:12]}…, manifest "
+                        f"says {sha256[:12]}…); rerun its engine job, e.g. snakemake --forcerun run_engine")
+    return read_dump(path)
+
+
+def measured_dump(path, sha256: str) -> tuple[dict, dict, CollisionMetrics]:
+    """(metadata, columns, metrics) of a verified dump; any problem is a DumpError naming it."""
+    meta, cols = verified_dump(path, sha256)
+    try:
+        m = collision_metrics(cols["time"], cols["overlap"], cols["normal_velocity"], cols["normal_force"],
+                              impact_velocity=meta["impact_velocity"])
+    except (ExtractionError, KeyError) as err:
+        raise DumpError(f"{path}: no complete collision in the dump: {err}")
+    return meta, cols, m
+
+
+def manifest_dumps(manifest_path):
+    """Yield (path, metadata, columns, metrics) for every dump of a manifest, each verified."""
+    for d in read_manifest(manifest_path)["dumps"]:
+        yield (d["path"], *measured_dump(d["path"], d["sha256"]))

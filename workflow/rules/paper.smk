@@ -1,0 +1,56 @@
+# Reproducing the paper: its claims, Table 1 and Figs. 1, 3, 4 and 5 (results/paper/).
+
+
+rule paper_claims:
+    """The paper's claims, each with its number, the computed one and a verdict; its Table 1."""
+    input: cases=[f"cases/{c}.yaml" for c in ("steel", "brass", "cork", "ice", "jaques_ball")]
+    output: claims="results/paper/claims.csv", table1="results/paper/table1.csv"
+    log: "logs/paper/claims.log"
+    script: "../scripts/paper_claims.py"
+
+
+rule paper_figure_1:
+    """Fig. 1: phi_1, phi_2 against K (series and solver, both criteria); inset xi."""
+    output: png="results/paper/fig1_phi.png"
+    log: "logs/paper/figure_1.log"
+    params: figure=1
+    script: "../scripts/paper_figure.py"
+
+
+rule paper_figure_3:
+    """Fig. 3 analogue: eps of every DEM run against K."""
+    input: summary="results/summary.csv"
+    output: png="results/paper/fig3_eps_collapse.png"
+    log: "logs/paper/figure_3.log"
+    params: figure=3
+    script: "../scripts/paper_figure.py"
+
+
+rule paper_energy_runs:
+    """The DEM runs of Fig. 4, in the first configured engine."""
+    input: case=config["paper"]["energy"]["case"], decks=DECKS[ENGINES[0]]
+    output:
+        manifest="results/paper/energy_runs/manifest.json",
+        runs=directory("results/paper/energy_runs/runs"),
+    log: "logs/paper/energy_runs.log"
+    params: energy=config["paper"]["energy"], engine=ENGINES[0], time_step_factor=config["time_step_factor"],
+            timeout_floor_s=config["engine_timeout_floor_s"]
+    script: "../scripts/paper_energy_runs.py"
+
+
+rule paper_figure_4:
+    """Fig. 4: kinetic, elastic, dissipated energy in time; the reference and one DEM run per K."""
+    input: manifest="results/paper/energy_runs/manifest.json", runs="results/paper/energy_runs/runs"
+    output: png="results/paper/fig4_energy.png", csv="results/paper/fig4_energy.csv"
+    log: "logs/paper/figure_4.log"
+    params: figure=4
+    script: "../scripts/paper_figure.py"
+
+
+rule paper_figure_5:
+    """Fig. 5: the fracture velocity V_F/V_P against R/L_d, three readings of 'pressure'."""
+    input: case=config["paper"]["fracture"]["case"]
+    output: png="results/paper/fig5_fracture.png", csv="results/paper/fig5_fracture.csv"
+    log: "logs/paper/figure_5.log"
+    params: figure=5, P0=config["paper"]["fracture"]["P0"]
+    script: "../scripts/paper_figure.py"
