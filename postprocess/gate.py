@@ -81,9 +81,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
                   (set(map(tuple, landed[GROUP].to_numpy())) if len(landed) else set()))
     rows = []
     for key in keys:
-        sel_plan = planned[(planned[GROUP] == key).all(axis=1)]
-        sel = landed[(landed[GROUP] == key).all(axis=1)] if len(landed) else landed
-        sel_failed = failed[(failed[GROUP] == key).all(axis=1)]
+        sel_plan, sel, sel_failed = (_of_group(df, key) for df in (planned, landed, failed))
         n_planned, n_landed, n_failed = len(sel_plan), len(sel), len(sel_failed)
         missing = sorted(set(sel_plan.run) - set(sel.run if len(sel) else ()) - set(sel_failed.run))
         for q in GATED_QUANTITIES:
@@ -115,6 +113,16 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
     columns = [*GROUP, "quantity", "planned", "landed", "failed", "max_abs_error", "at_K", "case", "tolerance",
                "pass", "reason"]
     return pd.DataFrame(rows, columns=columns)
+
+
+def _of_group(df: pd.DataFrame, key: tuple) -> pd.DataFrame:
+    """The rows of `df` whose GROUP columns equal `key`."""
+    if not len(df):
+        return df
+    mask = np.ones(len(df), dtype=bool)
+    for column, value in zip(GROUP, key):
+        mask &= (df[column] == value).to_numpy()
+    return df[mask]
 
 
 def check_name(row) -> str:

@@ -1,0 +1,145 @@
+"""The gate decides every check from what was planned, what landed and what failed; the report
+shows FAIL at the top with every failing check named; JUnit XML has one test case per check.
+
+These drive the verdict's branches on small tables; tests/test_study_failures.py drives the same
+paths end to end through the workflow with a real engine.
+"""
+
+import math
+import xml.etree.ElementTree as ET
+
+import pandas as pd
+import pytest
+
+from postprocess.gate import (VERDICT_FILES, gate_checks, junit_xml, verdict_of, withdraw_verdict, write_junit,
+                              write_verdict)
+from postprocess.report import write_report
+
+TOL = {"T": 5e-4, "A": 5e-4, "eps": 5e-4}
+
+
+def plan(*runs):
+    """Planned runs: (name, engine, law, geometry)."""
+    represents = {"viscoelastic": ["x0", "F0"], "viscoelastic_clipped": ["F0"], "default": ["x0"]}
+    return pd.DataFrame([{"case": "steel", "name": n, "engine": e, "law": law, "geometry": g,
+                          "represents": represents[law]} for n, e, law, g in runs])
+
+
+def rows(name, engine="lammps", law="viscoelastic", geometry="sphere-sphere", K=0.1, **err):
+    criteria = {"viscoelastic": ["x0", "F0"], "viscoelastic_clipped": ["F0"], "default": ["x0"]}[law]
+    return [{"case": "steel", "run": name, "engine": engine, "engine_version": "v", "law": law,
+             "geometry": geometry, "criterion": c, "K": K, "err_T": err.get("T", 1e-5), "err_A": err.get("A", 2e-5),
+             "err_eps": err.get("eps", -3e-6)} for c in criteria]
+
+
+def no_failures():
+    return pd.DataFrame(columns=["run", "problem", "log"])
+
+
+def test_all_within_tolerance_passes_and_default_law_is_not_gated():
+    table = pd.DataFrame(rows("a") + rows("b", K=0.2) + rows("d", law="default", T=0.5))
+    checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere"),
+                                     ("b", "lammps", "viscoelastic", "sphere-sphere"),
+                                     ("d", "lammps", "default", "sphere-sphere")), no_failures(), TOL)
+    assert len(checks) == 2 * 3  # x0 and F0, times T, A, eps; the default law makes none
+    assert checks["pass"].all()
+    assert set(checks.law) == {"viscoelastic"}
+    v = verdict_of(checks, "sha", TOL)
+    assert v["verdict"] == "PASS" and v["checked"] == 6 and v["failed"] == 0 and v["failures"] == []
+
+
+def test_worst_run_decides_and_the_boundary_is_inclusive():
+    table = pd.DataFrame(rows("a", T=-4e-4) + rows("b", K=0.3, T=-6e-4) + rows("c", K=0.5, A=5e-4))
+    checks = gate_checks(table, plan(*[(n, "lammps", "viscoelastic", "sphere-sphere") for n in "abc"]),
+                         no_failures(), TOL).set_index(["criterion", "quantity"])
+    t = checks.loc[("x0", "T")]
+    assert not t["pass"] and t.max_abs_error == pytest.approx(6e-4) and t.at_K == 0.3
+    assert t.reason.startswith("6.000e-04 > 0.0005 (case steel, K = 0.3)")
+    assert checks.loc[("x0", "A"), "pass"]  # exactly at the tolerance: |err| <= tol passes
+    v = verdict_of(checks.reset_index(), "sha", TOL)
+    assert v["verdict"] == "FAIL" and v["failed"] == 2  # T under x0 and under F0
+    assert all(f.startswith("lammps viscoelastic sphere-sphere") and " T: " in f for f in v["failures"])
+
+
+def test_a_failed_gated_run_fails_its_checks_naming_run_and_log():
+    table = pd.DataFrame(rows("a"))
+    failed = pd.DataFrame([{"run": "b", "problem": "lammps exited with status 139", "log": "runs/lammps.log"}])
+    checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere"),
+                                     ("b", "lammps", "viscoelastic", "sphere-sphere")), failed, TOL)
+    assert not checks["pass"].any()
+    assert (checks.failed == 1).all() and (checks.landed == 1).all() and (checks.planned == 2).all()
+    assert all("1 of 2 runs failed; first: b: lammps exited with status 139 (engine log: runs/lammps.log)" in r
+               for r in checks.reason)
+
+
+def test_a_planned_run_with_no_result_fails_and_a_group_with_none_fails():
+    checks = gate_checks(pd.DataFrame(rows("a")), plan(("a", "lammps", "viscoelastic", "sphere-sphere"),
+                                                       ("b", "lammps", "viscoelastic", "sphere-sphere"),
+                                                       ("c", "yade", "viscoelastic_clipped", "sphere-plane")),
+                         no_failures(), TOL)
+    lammps = checks[checks.engine == "lammps"]
+    assert not lammps["pass"].any() and lammps.reason.str.contains(r"1 of 2 planned runs have no result \(first: b\)").all()
+    yade = checks[checks.engine == "yade"]
+    assert len(yade) == 3 and not yade["pass"].any() and yade.max_abs_error.isna().all()
+
+
+def test_nan_error_fails_and_empty_study_is_not_a_pass():
+    table = pd.DataFrame(rows("a", eps=math.nan))
+    checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere")), no_failures(), TOL)
+    eps = checks[checks.quantity == "eps"]
+    assert not eps["pass"].any() and eps.reason.str.contains("NaN").all()
+    empty = gate_checks(pd.DataFrame(), plan(), no_failures(), TOL)
+    v = verdict_of(empty, "sha", TOL)
+    assert len(empty) == 0 and v["verdict"] == "FAIL" and "no gated check" in v["failures"][0]
+    root = junit_xml(empty).getroot()
+    assert root.get("tests") == "1" and root.get("failures") == "1"
+
+
+def test_junit_has_one_testcase_per_check_and_a_failure_for_each_failing_one(tmp_path):
+    table = pd.DataFrame(rows("a", T=1e-2) + rows("b", engine="yade", geometry="sphere-plane"))
+    checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere"),
+                                     ("b", "yade", "viscoelastic", "sphere-plane")), no_failures(), TOL)
+    write_junit(checks, tmp_path / "junit.xml")
+    root = ET.parse(tmp_path / "junit.xml").getroot()
+    cases = root.findall(".//testcase")
+    assert len(cases) == len(checks) == 12
+    failing = [c for c in cases if c.find("failure") is not None]
+    assert {(c.get("classname"), c.get("name")) for c in failing} == {
+        ("lammps.viscoelastic.sphere-sphere.x0", "T"), ("lammps.viscoelastic.sphere-sphere.F0", "T")}
+    assert root.get("failures") == "2" and root.find("testsuite").get("tests") == "12"
+    assert "1.000e-02 > 0.0005" in failing[0].find("failure").get("message")
+
+
+def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
+    from test_comparison import exact_metrics, meta_for
+    from postprocess.comparison import comparison_rows
+
+    meta = meta_for(K=0.1)
+    table = pd.DataFrame([{**r, "run": "a", "engine": "lammps", "err_T": 1e-2}
+                          for r in comparison_rows(meta, exact_metrics(meta))])
+    table["geometry"] = "sphere-sphere"
+    failed_runs = [{"case": "steel", "engine": "lammps", "law": "default", "run": "d",
+                    "problem": "unreadable engine record | x", "log": "runs/lammps.log"}]
+    checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere"),
+                                     ("d", "lammps", "default", "sphere-sphere")),
+                         pd.DataFrame(failed_runs), TOL)
+    verdict = verdict_of(checks, "0" * 64, TOL)
+    write_report(table, checks, verdict, tmp_path, failed_runs=failed_runs)
+    text = (tmp_path / "report.md").read_text()
+    first = [line for line in text.splitlines() if line.strip()][1]
+    assert first.startswith("**Verdict: FAIL** — 4 of 6 gated checks")
+    for f in verdict["failures"]:
+        assert f"- {f}" in text
+    assert "| lammps | default | d | unreadable engine record \\| x | runs/lammps.log |" in text
+    assert "FAIL" in (tmp_path / "report.html").read_text()
+
+
+def test_withdraw_verdict_removes_every_verdict_file(tmp_path):
+    for name in VERDICT_FILES:
+        (tmp_path / name).write_text("PASS")
+    (tmp_path / "summary.csv").write_text("kept")
+    removed = withdraw_verdict(tmp_path)
+    assert sorted(removed) == sorted(str(tmp_path / n) for n in VERDICT_FILES)
+    assert [p.name for p in tmp_path.iterdir()] == ["summary.csv"]
+    write_verdict({"verdict": "PASS"}, tmp_path / "verdict.json")
+    assert not list(tmp_path.glob(".*.part"))  # written atomically: no temporary left behind

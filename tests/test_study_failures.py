@@ -1,0 +1,216 @@
+"""The study's failure paths, end to end through Snakemake with a real engine (LAMMPS).
+
+Each test runs the workflow on a copy of the project with one small case (steel spheres, K = 0.1)
+and, where it needs a faulty engine, a wrapper named `lmp` put first on PATH: it runs the real
+LAMMPS and then spoils what it wrote (times stretched by 1 %, the out-of-the-box records deleted),
+or crashes, or hangs. The tests check what a user and a CI see: the exit status, the verdict at the
+top of the report, the JUnit XML, and that nothing saying PASS survives a failed or killed rerun.
+"""
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from engine_cases import require_engine
+
+ROOT = Path(__file__).resolve().parents[1]
+CASE = """name: steel
+effective_modulus: 109 GPa
+radius: 0.635 cm
+viscosity: 6.7e5 P
+density: 7800 kg/m^3
+geometries: [sphere-sphere]
+impact:
+  K: [0.1]
+"""
+SMALL = ["engines=[lammps]", "laws=[viscoelastic,default]", "extras=[]"]
+WRAPPER = '''#!{python}
+"""A faulty LAMMPS for the tests: mode {mode!r}."""
+import glob, os, subprocess, sys, time
+args = sys.argv[1:]
+sweep = "-in" in args
+if sweep and {mode!r} == "crash":
+    sys.exit(139)
+rc = subprocess.call([{real!r}, *args])
+if sweep and {mode!r} == "hang":
+    open("hang.pid", "w").write(str(os.getpid()))
+    time.sleep(120)
+for raw in glob.glob("*.lammps.txt") if sweep else []:
+    if {mode!r} == "stretch" and "-viscoelastic" in raw:
+        lines = open(raw).read().splitlines()
+        rows = [" ".join([repr(float(w[0]) * 1.01)] + w[1:]) for w in (line.split() for line in lines[1:])]
+        open(raw, "w").write("\\n".join([lines[0]] + rows) + "\\n")
+    if {mode!r} == "drop-default" and "-default-" in raw:
+        os.remove(raw)
+sys.exit(rc)
+'''
+
+
+@pytest.fixture
+def project(tmp_path):
+    require_engine("lmp", "lammps")
+    root = tmp_path / "study"
+    root.mkdir()
+    for item in ("Snakefile", "config", "workflow"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, root / item)
+    (root / "cases").mkdir()
+    shutil.copytree(ROOT / "cases" / "decks", root / "cases" / "decks")
+    (root / "cases" / "steel.yaml").write_text(CASE)
+    return root
+
+
+def faulty_lammps(tmp_path, mode) -> dict:
+    """The environment with a wrapper `lmp` (mode: stretch, drop-default, crash, hang) first on PATH."""
+    real = shutil.which("lmp")
+    bin_dir = tmp_path / f"bin-{mode}"
+    bin_dir.mkdir()
+    wrapper = bin_dir / "lmp"
+    wrapper.write_text(WRAPPER.format(python=sys.executable, mode=mode, real=real))
+    wrapper.chmod(0o755)
+    return {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}"}
+
+
+def study(project, *config, env=None, target="all", extra=()):
+    return subprocess.run([sys.executable, "-m", "snakemake", "-j2", target, *extra, "--config", *SMALL, *config],
+                          cwd=project, capture_output=True, text=True, timeout=600, env=env)
+
+
+def verdict_files(project):
+    return sorted(p.name for p in (project / "results").glob("*") if p.name in
+                  ("gate.txt", "verdict.json", "junit.xml", "report.md", "report.html"))
+
+
+def junit(project):
+    root = ET.parse(project / "results" / "junit.xml").getroot()
+    cases = root.findall(".//testcase")
+    failing = {f"{c.get('classname')}.{c.get('name')}" for c in cases if c.find("failure") is not None}
+    return len(cases), failing
+
+
+def report_head(project) -> str:
+    return (project / "results" / "report.md").read_text().split("## Engines")[0]
+
+
+def test_too_tight_tolerance_fails_and_no_earlier_pass_survives(project):
+    ok = study(project)
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
+    # Tolerances through --config arrive as strings in a mapping: accepted as numbers.
+    tight = study(project, "tolerance={T: 1e-6, A: 1.0e-6, eps: 5e-4}")
+    assert tight.returncode != 0
+    assert not (project / "results" / "gate.txt").exists()
+    head = report_head(project)
+    assert "**Verdict: FAIL** — 2 of 6 gated checks" in head
+    expected = {f"lammps.viscoelastic.sphere-sphere.{c}.{q}" for c in ("x0", "F0") for q in ("T", "A")}
+    assert junit(project) == (6, expected)
+    for name in expected:
+        line = "lammps viscoelastic sphere-sphere " + name.split("sphere-sphere.")[1].replace(".", " ")
+        assert f"- {line}: " in head and line in tight.stdout + tight.stderr
+    verdict = json.loads((project / "results" / "verdict.json").read_text())
+    assert verdict["verdict"] == "FAIL" and verdict["failed"] == 4 and verdict["tolerance"]["T"] == 1e-6
+
+
+def test_engine_one_percent_wrong_fails_only_the_time_checks(project, tmp_path):
+    out = study(project, env=faulty_lammps(tmp_path, "stretch"))
+    assert out.returncode != 0
+    summary = pd.read_csv(project / "results" / "summary.csv")
+    gated = summary[summary.law == "viscoelastic"]
+    # T stretched by 1 % on top of the engine's own -5.5e-5: err_T = 1.01 (1 + e) - 1.
+    assert gated.err_T.to_numpy() == pytest.approx(0.01, abs=2e-4)
+    assert junit(project) == (6, {"lammps.viscoelastic.sphere-sphere.x0.T", "lammps.viscoelastic.sphere-sphere.F0.T"})
+    assert "**Verdict: FAIL** — 4 of 6 gated checks" in report_head(project)
+    assert "lammps viscoelastic sphere-sphere x0 T: 1.00" in out.stdout + out.stderr
+
+
+def test_failed_out_of_the_box_run_is_reported_not_gated(project, tmp_path):
+    out = study(project, env=faulty_lammps(tmp_path, "drop-default"))
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS")
+    assert junit(project) == (6, set())
+    report = (project / "results" / "report.md").read_text()
+    section = report.split("## Runs not made or not completed")[1]
+    assert "| steel | lammps | default | lammps-default-sphere-sphere-K0.1-" in section
+    assert "unreadable engine record" in section
+
+
+def test_crashed_engine_fails_every_check_naming_the_run(project, tmp_path):
+    out = study(project, env=faulty_lammps(tmp_path, "crash"))
+    assert out.returncode != 0
+    n, failing = junit(project)
+    assert n == 6 and len(failing) == 6
+    head = report_head(project)
+    assert "**Verdict: FAIL** — 0 of 6 gated checks" in head
+    assert "1 of 1 runs failed; first: lammps-viscoelastic-sphere-sphere-K0.1-" in head
+    assert "139" in head and "1 of 1 runs failed" in out.stdout + out.stderr
+
+
+def test_copied_results_read_their_own_dumps_and_an_edited_dump_is_refused(project, tmp_path):
+    out = study(project)
+    assert out.returncode == 0, out.stderr[-3000:]
+    manifest = json.loads((project / "results" / "steel" / "lammps" / "manifest.json").read_text())
+    assert all(not Path(d["path"]).is_absolute() and d["path"].startswith("runs/") for d in manifest["dumps"])
+    summary = (project / "results" / "summary.csv").read_bytes()
+    assert b"steel/lammps/runs/lammps-viscoelastic" in summary and str(project).encode() not in summary
+
+    copy = tmp_path / "copy"
+    shutil.copytree(project, copy)
+    shutil.rmtree(project)  # the copy must not need the original
+    again = study(copy, extra=["--forcerun", "case_summary"])
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert (copy / "results" / "summary.csv").read_bytes() == summary
+
+    dump = next((copy / "results" / "steel" / "lammps" / "runs").glob("lammps-viscoelastic-*.csv"))
+    lines = dump.read_text().splitlines()
+    row = next(i for i, line in enumerate(lines) if line and line[0].isdigit() and float(line.split(",")[1]) > 0)
+    t, x, v, f = lines[row].split(",")
+    lines[row] = ",".join([t, repr(float(x) * 1.0002), v, f])
+    dump.write_text("\n".join(lines) + "\n")
+    edited = study(copy, extra=["--forcerun", "case_summary"])
+    assert edited.returncode != 0
+    assert f"{dump.relative_to(copy)}: the dump changed after the engine job wrote it" in edited.stderr
+    assert verdict_files(copy) == []  # the rerun withdrew the old PASS before it failed
+
+
+def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project, tmp_path):
+    ok = study(project)
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    case = project / "cases" / "steel.yaml"
+    case.write_text(case.read_text().replace("7800 kg/m^3", "7850 kg/m^3"))  # the engine job reruns
+    env = faulty_lammps(tmp_path, "hang")
+    proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "all", "--config", *SMALL], cwd=project,
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    pid_file = project / "results" / "steel" / "lammps" / "runs" / "hang.pid"
+    try:
+        deadline = time.monotonic() + 300
+        while not pid_file.exists() and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.2)
+        assert pid_file.exists(), "the engine job never started"
+        os.killpg(proc.pid, signal.SIGKILL)  # kill -9 the workflow mid-run
+        proc.wait(timeout=30)
+    finally:
+        for pid in [int(pid_file.read_text())] if pid_file.exists() else []:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+    assert verdict_files(project) == []
+
+    locked = study(project)
+    assert locked.returncode != 0 and "LockException" in locked.stdout + locked.stderr
+    # The README's recovery: unlock, then rerun what was left incomplete.
+    unlock = subprocess.run([sys.executable, "-m", "snakemake", "--unlock"], cwd=project, capture_output=True,
+                            text=True, timeout=120)
+    assert unlock.returncode == 0, unlock.stderr
+    again = study(project, extra=["--rerun-incomplete"])
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
