@@ -148,5 +148,5 @@ def stop_message(engine: str, build: str, case: str, run: str, what: str, log: P
     happened, and the log's last lines."""
     tail = log_tail(log)
     quoted = "\n".join(f"    | {line}" for line in tail) if tail else "    | (the log is empty)"
-    return (f"{engine} ({build}) {what}, in case {case}, run {run}; "
+    return (f"{engine} {what} (build: {build}), in case {case}, run {run}; "
             f"last {len(tail)} line(s) of its log:\n{quoted}")
