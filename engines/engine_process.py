@@ -149,4 +149,4 @@ def stop_message(engine: str, build: str, case: str, run: str, what: str, log: P
     tail = log_tail(log)
     quoted = "\n".join(f"    | {line}" for line in tail) if tail else "    | (the log is empty)"
     return (f"{engine} {what} (build: {build}), in case {case}, run {run}; "
-            f"last {len(tail)} line(s) of its log:\n{quoted}")
+            f"the last {len(tail)} line(s) of its log follow\n{quoted}")
