@@ -20,11 +20,18 @@ class EngineMissing(RuntimeError):
 
 
 class EngineRunFailed(RuntimeError):
-    """An engine run that produced no valid collision; the message names the run and its log."""
+    """An engine run that produced no valid collision; the message names the run and its log.
 
-    def __init__(self, run_name: str, problem: str, log_path):
+    When the engine process itself stopped (timed out or crashed), `engine` and `case` name it
+    and `log_tail` holds the log's last lines, which the problem quotes on its following lines.
+    """
+
+    def __init__(self, run_name: str, problem: str, log_path, *, engine: str = "", case: str = "",
+                 log_tail: tuple[str, ...] = ()):
         self.run_name, self.problem, self.log_path = run_name, problem, str(log_path)
-        super().__init__(f"{run_name}: {problem} (engine log: {log_path})")
+        self.engine, self.case, self.log_tail = engine, case, tuple(log_tail)
+        head, _, rest = problem.rstrip("\n").partition("\n")
+        super().__init__(f"{run_name}: {head} (engine log: {log_path})" + (f"\n{rest}" if rest else ""))
 
 
 def require_executable(engine: str, executable: str) -> str:

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from contact_model import Body, ContactPair
 
+from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .run_spec import RunSpec
 from .script_engine import ScriptEngine, common_variables, number
 
@@ -57,9 +58,11 @@ LAMMPS = ScriptEngine(
 )
 
 
-def run_lammps(specs: list[RunSpec], workdir, executable: str = "lmp", **kw):
-    """Run LAMMPS collisions in one process (see `ScriptEngine.run`); returns a `Sweep`."""
-    return LAMMPS.run(specs, workdir, executable, **kw)
+def run_lammps(specs: list[RunSpec], workdir, executable: str = "lmp",
+               timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, **kw):
+    """Run LAMMPS collisions in one process (see `ScriptEngine.run`); returns a `Sweep`.
+    The process's time limit scales with the sweep, never below `timeout_floor_s` seconds."""
+    return LAMMPS.run(specs, workdir, executable, timeout_floor_s=timeout_floor_s, **kw)
 
 
 def wall_modulus_regression(workdir, young: float = 200e9, poisson: float = 0.3, radius: float = 0.005,

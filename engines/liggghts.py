@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .run_spec import RunSpec
 from .script_engine import ScriptEngine, common_variables, number
 
@@ -48,6 +49,8 @@ LIGGGHTS = ScriptEngine(
 )
 
 
-def run_liggghts(specs: list[RunSpec], workdir, executable: str = "liggghts", **kw):
-    """Run LIGGGHTS collisions in one process (see `ScriptEngine.run`); returns a `Sweep`."""
-    return LIGGGHTS.run(specs, workdir, executable, **kw)
+def run_liggghts(specs: list[RunSpec], workdir, executable: str = "liggghts",
+                 timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, **kw):
+    """Run LIGGGHTS collisions in one process (see `ScriptEngine.run`); returns a `Sweep`.
+    The process's time limit scales with the sweep, never below `timeout_floor_s` seconds."""
+    return LIGGGHTS.run(specs, workdir, executable, timeout_floor_s=timeout_floor_s, **kw)

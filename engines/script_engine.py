@@ -6,6 +6,9 @@ and `clear`s. Variables survive `clear` (and an `index` variable is not redefine
 each is deleted and defined anew for every run. One process start (~0.4 s, mostly MPI init)
 then serves a whole sweep of ~0.01-0.02 s collisions.
 
+The engine's screen output (with the input echoed) is its log, streamed to disk as it runs, and
+the process has a time limit scaled to the sweep (engines/engine_process.py).
+
 What differs per engine (the deck files, the variables, the version line, whether the record
 has a step-0 row) is given by the `ScriptEngine` value in engines/liggghts.py and
 engines/lammps.py.
@@ -15,9 +18,7 @@ from __future__ import annotations
 
 import hashlib
 import re
-import subprocess
 import tempfile
-import time
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -25,11 +26,14 @@ from typing import Callable
 
 import numpy as np
 
+from .engine_process import (DEFAULT_TIMEOUT_FLOOR_S, describe_exit, line_buffered, log_tail, run_logged,
+                             stop_message, time_limit)
 from .errors import EngineRunFailed, require_executable
 from .finish_run import Sweep, load_record, write_run_dump
 from .run_spec import RunSpec
 
-TIMEOUT_S = 600
+#: Time limit of `version_line` [s]: the engine only starts and reads an empty input (~0.4 s).
+VERSION_TIMEOUT_S = 60.0
 
 
 def number(x: float) -> str:
@@ -46,17 +50,28 @@ def common_variables(spec: RunSpec) -> dict[str, str]:
     return {**{k: number(v) for k, v in state.items()}, "box": number(box), "skin": number(0.25 * R1)}
 
 
-@lru_cache(maxsize=None)
-def version_line(executable: str, prefix: str) -> str:
-    """The first line the engine prints that starts with `prefix` (its version). Run in a
-    scratch folder: LIGGGHTS opens its default log.liggghts before it reads `-log none`."""
-    with tempfile.TemporaryDirectory() as scratch:
-        out = subprocess.run([executable, "-log", "none"], input="", capture_output=True, text=True,
-                             timeout=60, cwd=scratch)
-    for line in out.stdout.splitlines():
+def first_line_with(text: str, prefix: str) -> str | None:
+    for line in text.splitlines():
         if line.startswith(prefix):
             return line.strip()
-    return f"{prefix} (version line not found)"
+    return None
+
+
+@lru_cache(maxsize=None)
+def version_line(executable: str, prefix: str, timeout_s: float = VERSION_TIMEOUT_S) -> str:
+    """The first line the engine prints that starts with `prefix` (its version). Run in a
+    scratch folder: LIGGGHTS opens its default log.liggghts before it reads `-log none`.
+
+    Raises RuntimeError if the engine has not exited within `timeout_s` (it is killed)."""
+    with tempfile.TemporaryDirectory() as scratch:
+        out = Path(scratch) / "version.txt"  # stdin: empty (/dev/null)
+        done = run_logged(line_buffered([executable, "-log", "none"]), out, timeout_s, cwd=scratch)
+        text = out.read_text(errors="replace")
+    if done.timed_out:
+        tail = "\n".join(f"    | {line}" for line in text.strip().splitlines()[-10:]) or "    | (nothing)"
+        raise RuntimeError(f"'{executable} -log none' (asked for its version, with empty input) did not exit "
+                           f"within {timeout_s:g} s and was killed; it printed:\n{tail}")
+    return first_line_with(text, prefix) or f"{prefix} (version line not found)"
 
 
 def last_error(log: Path) -> str:
@@ -104,12 +119,15 @@ class ScriptEngine:
         return "\n".join(lines) + "\n"
 
     def run(self, specs: list[RunSpec], workdir, executable: str | None = None,
-            overrides: dict[str, dict[str, str]] | None = None) -> Sweep:
+            overrides: dict[str, dict[str, str]] | None = None,
+            timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> Sweep:
         """Run collisions in one engine process; write `workdir/<spec.name>.csv` for each.
 
         Raises EngineMissing if the engine is not installed. A run that fails (an engine error,
         NaN, bodies that never touch or are still in contact at the end) is an EngineRunFailed
-        naming the log in the returned `Sweep`; when the engine stops, the runs after fail too.
+        naming the log in the returned `Sweep`; when the engine stops (an error, a crash, or its
+        time limit: `engine_process.time_limit`, at least `timeout_floor_s`), the run in progress
+        fails with the engine's last log lines and the runs after fail too.
         `overrides` replaces deck variables of named runs (for regression cases).
         """
         if any(s.engine != self.name for s in specs):
@@ -127,22 +145,29 @@ class ScriptEngine:
         script = workdir / f"{self.name}-sweep.in"
         script.write_text(self.sweep_script(specs, raws, overrides or {}))
         sweep = Sweep()
-        started = time.perf_counter()
-        try:
-            done = subprocess.run([exe, "-in", str(script), "-log", str(log), "-screen", "none"], cwd=workdir,
-                                  capture_output=True, text=True, timeout=TIMEOUT_S, stdin=subprocess.DEVNULL)
-            stop = None if done.returncode == 0 else \
-                f"{self.name} exited with status {done.returncode}: {last_error(log)}"
-        except subprocess.TimeoutExpired:
-            stop = f"{self.name} did not finish within {TIMEOUT_S} s"
-        sweep.engine_seconds = time.perf_counter() - started
+        limit = time_limit(self.name, specs, timeout_floor_s)
+        # The screen (stdout) is the log: a `-log` file is block-buffered by the engine and lost
+        # when it is killed. `-echo screen` keeps the input commands in it, as `-log` had them.
+        done = run_logged(line_buffered([exe, "-in", str(script), "-log", "none", "-echo", "screen"]), log,
+                          limit, cwd=workdir)
+        sweep.engine_seconds = done.seconds
+        printed = log.read_text(errors="replace") if log.exists() else ""
+        build = first_line_with(printed, self.version_prefix)
+        stop = None
+        if done.timed_out:
+            stop = f"did not finish within its time limit of {limit:.3g} s and was killed"
+        elif done.returncode != 0:
+            stop = f"exited with {describe_exit(done.returncode)}: {last_error(log)}"
         stopped_in = self._run_in_progress(log, specs) if stop else None
-        version = version_line(exe, self.version_prefix)
+        version = build or version_line(exe, self.version_prefix)
         reached_stop = False
         for spec in specs:
             if spec.name == stopped_in:
                 reached_stop = True
-                sweep.failures[spec.name] = EngineRunFailed(spec.name, stop, log)
+                problem = stop_message(self.name, f"{build or 'no version line printed'}; {exe}", spec.case,
+                                       spec.name, stop, log)
+                sweep.failures[spec.name] = EngineRunFailed(spec.name, problem, log, engine=self.name,
+                                                            case=spec.case, log_tail=log_tail(log))
             elif reached_stop:
                 sweep.failures[spec.name] = EngineRunFailed(
                     spec.name, f"not run: {self.name} stopped in {stopped_in}", log)

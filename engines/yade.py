@@ -2,24 +2,24 @@
 
 YADE needs over a second to start, so a whole sweep runs in one process; the driver script
 (cases/decks/yade/collisions.py) resets the scene between runs. Every number it uses is
-written into the job file here, from `contact_model`.
+written into the job file here, from `contact_model`. YADE's output is its log, streamed
+(PYTHONUNBUFFERED), under a time limit scaled to the sweep (engines/engine_process.py).
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import subprocess
-import time
+import re
 from pathlib import Path
 
+from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, describe_exit, log_tail, run_logged, stop_message, time_limit
 from .errors import EngineRunFailed, require_executable
 from .finish_run import Sweep, load_record, write_run_dump
 from .run_spec import RunSpec
 
 EXECUTABLE = "yade"
 DRIVER = Path(__file__).resolve().parents[1] / "cases" / "decks" / "yade" / "collisions.py"
-TIMEOUT_S = 1800
 
 
 def driver_hash() -> str:
@@ -39,11 +39,15 @@ def job_entry(spec: RunSpec, out: Path) -> dict:
     return entry
 
 
-def run_yade(specs: list[RunSpec], workdir, executable: str = EXECUTABLE) -> Sweep:
+def run_yade(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
+             timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> Sweep:
     """Run every spec in one YADE process; write `workdir/<spec.name>.csv` for each.
 
     Raises EngineMissing if YADE is not installed. A run that fails is an EngineRunFailed
-    (naming the log) in the returned `Sweep`; if YADE itself fails, every run fails.
+    (naming the log) in the returned `Sweep`. If YADE itself stops (an error, a crash, or its
+    time limit: `engine_process.time_limit`, at least `timeout_floor_s`), the run in progress
+    fails with YADE's last log lines, the runs after it are not run, and the runs before it
+    land if their records are complete.
     """
     if any(s.engine != "yade" for s in specs):
         raise ValueError("run_yade got runs for another engine")
@@ -64,26 +68,39 @@ def run_yade(specs: list[RunSpec], workdir, executable: str = EXECUTABLE) -> Swe
     job_path.write_text(json.dumps(job, indent=1))
     cmd = [exe, "-n", "-x", str(DRIVER), f"job={job_path}"]
     sweep = Sweep()
-    started = time.perf_counter()
-    with open(log, "w") as out:
-        try:
-            done = subprocess.run(cmd, cwd=workdir, stdout=out, stderr=subprocess.STDOUT,
-                                  stdin=subprocess.DEVNULL, timeout=TIMEOUT_S)
-            stop = None
-            if done.returncode != 0 or not status_path.exists():
-                tail = log.read_text(errors="replace").strip().splitlines()[-1:] or ["no output"]
-                stop = f"yade exited with status {done.returncode}: {tail[0]}"
-        except subprocess.TimeoutExpired:
-            stop = f"yade did not finish within {TIMEOUT_S} s"
-    sweep.engine_seconds = time.perf_counter() - started
-    status = json.loads(status_path.read_text()) if stop is None else {"runs": {}}
+    limit = time_limit("yade", specs, timeout_floor_s)
+    done = run_logged(cmd, log, limit, cwd=workdir, env={"PYTHONUNBUFFERED": "1"})
+    sweep.engine_seconds = done.seconds
+    printed = log.read_text(errors="replace") if log.exists() else ""
+    status = json.loads(status_path.read_text()) if status_path.exists() else None
+    stop = None
+    if done.timed_out:
+        stop = f"did not finish within its time limit of {limit:.3g} s and was killed"
+    elif done.returncode != 0 or status is None:
+        stop = f"exited with {describe_exit(done.returncode)}" + ("" if status else " before writing its status")
+    build = re.search(r"^YADE .*$", printed, flags=re.M)
+    build = build.group(0).strip() if build else None
+    version = status["engine_version"] if status else build or "YADE (version not printed)"
+    started = re.findall(r"^RUN (\S+)$", printed, flags=re.M)
+    stopped_in = (started[-1] if started else specs[0].name) if stop else None
+    reached_stop = False
     for spec, entry in zip(specs, job["runs"]):
-        if stop is not None:
-            sweep.failures[spec.name] = EngineRunFailed(spec.name, stop, log)
+        if spec.name == stopped_in:
+            reached_stop = True
+            problem = stop_message("yade", f"{build or 'no version line printed'}; {exe}", spec.case, spec.name,
+                                   stop, log)
+            sweep.failures[spec.name] = EngineRunFailed(spec.name, problem, log, engine="yade", case=spec.case,
+                                                        log_tail=log_tail(log))
             continue
-        st = status["runs"].get(spec.name, {"ok": False, "error": "no status reported"})
-        sweep.finish(spec, lambda: _yade_dump(spec, entry, st, raws[spec.name], workdir, log,
-                                              status["engine_version"]))
+        if reached_stop:
+            sweep.failures[spec.name] = EngineRunFailed(spec.name, f"not run: yade stopped in {stopped_in}", log)
+            continue
+        if status is not None:
+            st = status["runs"].get(spec.name, {"ok": False, "error": "no status reported"})
+        else:  # YADE stopped later: this run finished, and wrote its record unless it failed
+            failed = re.search(rf"^RUN FAILED {re.escape(spec.name)}: (.*)$", printed, flags=re.M)
+            st = {"ok": False, "error": failed.group(1)} if failed else {"ok": True}
+        sweep.finish(spec, lambda: _yade_dump(spec, entry, st, raws[spec.name], workdir, log, version))
     return sweep
 
 

@@ -5,7 +5,8 @@
 # Runs under YADE's own Python: yade + the standard library only. The job file (written by
 # engines/yade.py on the host) lists runs; every number in it comes from the host's contact
 # model. For each run this script writes <out> (one row per step: time, overlap,
-# d(overlap)/dt at full steps, normal force) and, at the end, <status> (JSON).
+# d(overlap)/dt at full steps, normal force) and, at the end, <status> (JSON). It prints its
+# build first and "RUN <name>" when a run starts.
 #
 # Contact law (the host picks one per run):
 #   viscoelastic   Hertz-Mindlin elastic part (k_no = 4/3 E* sqrt(R*), from young = 2E*,
@@ -95,7 +96,10 @@ def after_contact_forces():
 
 status = {"engine_version": "YADE %s (%s)" % (yade.config.version, yade.config.highPrecisionName),
           "runs": {}}
+# The log (stdout) tells the host the build and the run in progress if YADE hangs or crashes.
+print(status["engine_version"], flush=True)
 for run in JOB["runs"]:
+    print("RUN %s" % run["name"], flush=True)
     started = time.time()
     try:
         build(run)
@@ -109,6 +113,6 @@ for run in JOB["runs"]:
         status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
     except Exception as err:  # report per run; the host fails that run with this log
         status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
-        print("RUN FAILED %s: %s" % (run["name"], err))
+        print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
 with open(JOB["status"], "w") as f:
     json.dump(status, f, indent=1)

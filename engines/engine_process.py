@@ -1,0 +1,152 @@
+"""One engine process: its time limit, its log streamed to disk, and a clean kill.
+
+A hung engine must not keep the study silent for many minutes, and what it printed must be on
+disk when it is killed. So every engine process
+
+- gets a time limit scaled to its sweep (`time_limit`), never below a floor (`timeout_floor_s`
+  of the runners and of `engines.run_sweep`, default `DEFAULT_TIMEOUT_FLOOR_S`);
+- writes its output (stdout and stderr) straight into its log file: the file is the process's
+  stdout, and the engine's C stdio is made line-buffered with coreutils' `stdbuf -oL -eL` (YADE:
+  PYTHONUNBUFFERED=1), so that lines land as they are printed, not when a 4 KiB buffer fills;
+- runs in a session of its own, and the whole process group is killed when it times out, and
+  after it exits (MPI helpers, a `shell` command's children or a wrapper's engine must not linger).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import signal
+import subprocess
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+#: The floor of every engine process's time limit [s] (`timeout_floor_s`).
+DEFAULT_TIMEOUT_FLOOR_S = 60.0
+#: The limit is this many times the sweep's expected length (shared machines, slow CI).
+SAFETY_FACTOR = 10.0
+#: Time given to a process group between SIGTERM and SIGKILL [s].
+KILL_GRACE_S = 3.0
+#: Last log lines quoted in the error of a timed-out or crashed engine.
+TAIL_LINES = 10
+
+
+@dataclass(frozen=True)
+class EngineCost:
+    """What an engine process costs: start-up, per run (set-up and teardown) and per step [s]."""
+
+    start_s: float
+    per_run_s: float
+    per_step_s: float
+
+
+# Measured here (Debian packages, 2 shared cores, steel case, fix print / PyRunner every step,
+# one process per sweep; engine process wall time, median of a few runs):
+#   LIGGGHTS 3.8.0   start-up 0.35 s, 7.3 us/step (2 runs of 25 300 steps: 0.71 s), ~1 ms/run
+#   LAMMPS 29Sep2021 start-up 0.35 s, 8.5 us/step (2 runs of 25 300 steps: 0.78 s), ~1 ms/run
+#   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
+# The costs below are those rounded up about twice; the limit multiplies them by SAFETY_FACTOR:
+#   limit = max(floor, SAFETY_FACTOR * (start_s + runs * per_run_s + sum(spec.steps()) * per_step_s))
+# e.g. a LIGGGHTS sweep of 36 runs of 2 600 steps: 10 * (1 + 0.07 + 1.4) = 25 s -> the 60 s floor.
+COST = {
+    "liggghts": EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6),
+    "lammps": EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6),
+    "yade": EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6),
+}
+
+
+def time_limit(engine: str, specs, floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> float:
+    """The time limit [s] of one `engine` process running `specs`: SAFETY_FACTOR times the
+    sweep's expected length (see COST), at least `floor_s`."""
+    if not (floor_s > 0 and math.isfinite(floor_s)):
+        raise ValueError(f"the engine time-limit floor must be a positive number of seconds, got {floor_s}")
+    c = COST[engine]
+    expected = c.start_s + len(specs) * c.per_run_s + sum(s.steps() for s in specs) * c.per_step_s
+    return max(float(floor_s), SAFETY_FACTOR * expected)
+
+
+def line_buffered(cmd: list[str]) -> list[str]:
+    """`cmd` with its C stdio line-buffered (stdbuf), when coreutils' stdbuf is there."""
+    stdbuf = shutil.which("stdbuf")
+    return [stdbuf, "-oL", "-eL", *cmd] if stdbuf else list(cmd)
+
+
+def kill_group(pgid: int, sig: int = signal.SIGKILL) -> None:
+    """Send `sig` to process group `pgid`, if any process is left in it."""
+    try:
+        os.killpg(pgid, sig)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+@dataclass
+class Finished:
+    """How an engine process ended: its exit status (None if killed for its time limit)."""
+
+    returncode: int | None
+    seconds: float
+
+    @property
+    def timed_out(self) -> bool:
+        return self.returncode is None
+
+
+def run_logged(cmd: list[str], log: Path, timeout_s: float, cwd=None, env: dict | None = None,
+               stdin=subprocess.DEVNULL, mode: str = "w") -> Finished:
+    """Run `cmd` with stdout and stderr going straight into `log`, in a new session.
+
+    If it has not exited after `timeout_s`, its process group gets SIGTERM, then SIGKILL after
+    KILL_GRACE_S; the group is SIGKILLed after a normal exit too, so that nothing it started
+    survives. Returns how it ended."""
+    started = time.perf_counter()
+    with open(log, mode) as out:
+        proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=subprocess.STDOUT, stdin=stdin,
+                                env=None if env is None else {**os.environ, **env}, start_new_session=True)
+    pgid = proc.pid  # start_new_session: the child leads its own group
+    try:
+        returncode = proc.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        returncode = None
+        kill_group(pgid, signal.SIGTERM)
+        try:
+            proc.wait(timeout=KILL_GRACE_S)
+        except subprocess.TimeoutExpired:
+            pass
+    except BaseException:  # e.g. KeyboardInterrupt: do not leave the engine running
+        kill_group(pgid)
+        proc.wait()
+        raise
+    kill_group(pgid)
+    proc.wait()
+    return Finished(returncode, time.perf_counter() - started)
+
+
+def log_tail(log: Path, n: int = TAIL_LINES) -> list[str]:
+    """The last `n` non-blank lines of a log (none if it cannot be read)."""
+    try:
+        lines = Path(log).read_text(errors="replace").splitlines()
+    except OSError:
+        return []
+    return [line.rstrip() for line in lines if line.strip()][-n:]
+
+
+def describe_exit(returncode: int) -> str:
+    """'status 3', or 'signal SIGSEGV (status 139)' for a signal (negative, or a shell's 128+n)."""
+    signum = -returncode if returncode < 0 else returncode - 128 if 128 < returncode < 128 + 65 else None
+    if signum is not None:
+        try:
+            return f"signal {signal.Signals(signum).name} (status {returncode})"
+        except ValueError:
+            pass
+    return f"status {returncode}"
+
+
+def stop_message(engine: str, build: str, case: str, run: str, what: str, log: Path) -> str:
+    """The problem of the run an engine process stopped in: engine and build, case, run, what
+    happened, and the log's last lines."""
+    tail = log_tail(log)
+    quoted = "\n".join(f"    | {line}" for line in tail) if tail else "    | (the log is empty)"
+    return (f"{engine} {what} (build: {build}), in case {case}, run {run}; "
+            f"the last {len(tail)} line(s) of its log follow\n{quoted}")

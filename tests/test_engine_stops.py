@@ -1,0 +1,192 @@
+"""Hung and crashed engines, for real: the call returns soon after the time limit, the log holds
+what the engine printed, the error names engine, build, case, run and the last log lines, no
+process of the engine survives, and no dump is written for a run that did not complete.
+
+The engines are the installed ones, run through a wrapper script (the runners' `executable`)
+that writes its pid (the process group: the runners start a new session) and makes the real
+engine hang or crash in the second of three runs."""
+
+import shutil
+import stat
+import time
+from pathlib import Path
+
+import pytest
+
+from engine_cases import VELOCITY, require_engine, steel_pair
+from engines import RunSpec, engine_process, yade
+from engines.engine_process import EngineCost, time_limit
+from engines.lammps import run_lammps
+from engines.liggghts import run_liggghts
+
+CASE = "stop-case"
+SCRIPT_ENGINES = {"liggghts": ("liggghts", "liggghts", run_liggghts), "lammps": ("lmp", "lammps", run_lammps)}
+#: What the wrapper puts before the second run's deck: a hang (a child that sleeps, so that
+#: killing only the engine would leave it behind) or a real SIGSEGV of the engine.
+INJECT = {"hang": "shell sleep 1000", "crash": 'shell "kill -SEGV $PPID"'}
+
+
+def three_runs(engine: str) -> list[RunSpec]:
+    return [RunSpec(CASE, engine, "viscoelastic", steel_pair(g, K), VELOCITY, time_step_factor=200)
+            for g, K in (("sphere-plane", 0.1), ("sphere-sphere", 0.1), ("sphere-plane", 0.2))]
+
+
+def executable(path: Path, text: str) -> str:
+    path.write_text(text)
+    path.chmod(path.stat().st_mode | stat.S_IXUSR)
+    return str(path)
+
+
+def script_engine_wrapper(tmp_path: Path, real: str, inject: str) -> str:
+    """Runs the real engine; with `-in`, on a copy of the sweep script with `inject` before the
+    second `include` (inside the second run). Version queries (no -in) go straight through."""
+    (tmp_path / "inject.in").write_text(inject)
+    return executable(tmp_path / "engine-wrapper.sh", f"""#!/bin/bash
+echo $$ > {tmp_path / 'wrapper.pid'}
+args=("$@")
+for i in "${{!args[@]}}"; do
+  if [ "${{args[$i]}}" = "-in" ]; then
+    script="${{args[$((i + 1))]}}"
+    awk -v inject="$(cat {tmp_path / 'inject.in'})" '/^include /{{n++; if (n == 2) print inject}} {{print}}' \
+      "$script" > "$script.wrapped"
+    args[$((i + 1))]="$script.wrapped"
+  fi
+done
+echo "wrapper: starting the real engine"
+"{real}" "${{args[@]}}"
+""")
+
+
+def group_members(pgid: int) -> list[str]:
+    """Live (not zombie) processes in process group `pgid`, as 'pid command'."""
+    found = []
+    for stat_file in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            text = stat_file.read_text()
+        except OSError:
+            continue
+        command, fields = text[text.index("(") + 1:text.rindex(")")], text[text.rindex(")") + 2:].split()
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            found.append(f"{stat_file.parent.name} {command}")
+    return found
+
+
+def assert_group_gone(pid_file: Path):
+    pgid = int(pid_file.read_text())
+    deadline = time.monotonic() + 10  # SIGKILLed processes vanish at once; allow for reaping
+    while group_members(pgid) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert group_members(pgid) == [], "engine processes survived"
+
+
+def assert_stopped_in_second_run(sweep, specs, workdir: Path, engine: str, build: str, what: str, last_words: str):
+    """... and `last_words` are in the log's last lines, which the message quotes."""
+    first, second, third = specs
+    log = workdir / f"{engine}.log"
+    assert log.exists()
+    printed = log.read_text()
+    assert "wrapper: starting the real engine" in printed  # streamed from the start
+    assert f"RUN {first.name}" in printed and f"RUN {second.name}" in printed
+    assert f"RUN {third.name}" not in printed
+    assert list(sweep.dumps) == [first.name]  # the run before the stop landed
+    assert (workdir / f"{first.name}.csv").exists()
+    for spec in (second, third):
+        assert not (workdir / f"{spec.name}.csv").exists()
+    err = sweep.failures[second.name]
+    message = str(err)
+    assert err.engine == engine and err.case == CASE and err.run_name == second.name
+    assert f"{engine} {what}" in message and build in message
+    assert f"case {CASE}" in message and f"run {second.name}" in message and str(log) in message
+    tail = [line.rstrip() for line in printed.splitlines() if line.strip()][-10:]
+    assert list(err.log_tail) == tail and any(last_words in line for line in tail)
+    for line in tail:
+        assert line in message
+    assert f"not run: {engine} stopped in {second.name}" in str(sweep.failures[third.name])
+    return printed, message
+
+
+@pytest.fixture
+def no_expected_cost(monkeypatch):
+    """Make the time limit the floor, so that a hung engine is killed after a few seconds."""
+    monkeypatch.setattr(engine_process, "COST", {e: EngineCost(0.0, 0.0, 0.0) for e in engine_process.COST})
+
+
+@pytest.mark.parametrize("engine", sorted(SCRIPT_ENGINES))
+def test_hung_script_engine_is_killed_with_its_children(tmp_path, engine, no_expected_cost):
+    exe, package, runner = SCRIPT_ENGINES[engine]
+    require_engine(exe, package)
+    wrapper = script_engine_wrapper(tmp_path, shutil.which(exe), INJECT["hang"])
+    specs = three_runs(engine)
+    floor = 3.0
+    started = time.monotonic()
+    sweep = runner(specs, tmp_path / "out", executable=wrapper, timeout_floor_s=floor)
+    assert time.monotonic() - started < floor + 30
+    build = "LIGGGHTS (Version LIGGGHTS-PUBLIC" if engine == "liggghts" else "LAMMPS (29 Sep 2021"
+    printed, _ = assert_stopped_in_second_run(sweep, specs, tmp_path / "out", engine, build,
+                                              "did not finish within its time limit of 3 s", "shell sleep 1000")
+    assert "shell sleep 1000" in printed  # the engine echoed the command it hung in
+    assert_group_gone(tmp_path / "wrapper.pid")
+
+
+@pytest.mark.parametrize("engine", sorted(SCRIPT_ENGINES))
+def test_crashed_script_engine_names_the_signal_and_leaves_no_dump(tmp_path, engine):
+    exe, package, runner = SCRIPT_ENGINES[engine]
+    require_engine(exe, package)
+    wrapper = script_engine_wrapper(tmp_path, shutil.which(exe), INJECT["crash"])
+    specs = three_runs(engine)
+    sweep = runner(specs, tmp_path / "out", executable=wrapper, timeout_floor_s=2.0)
+    build = "LIGGGHTS (Version LIGGGHTS-PUBLIC" if engine == "liggghts" else "LAMMPS (29 Sep 2021"
+    printed, _ = assert_stopped_in_second_run(sweep, specs, tmp_path / "out", engine, build,
+                                              "exited with signal SIGSEGV", "End of error message")
+    assert "Segmentation fault" in printed  # the engine's stderr (MPI's backtrace) is in the log too
+    assert_group_gone(tmp_path / "wrapper.pid")
+
+
+def yade_wrapper(tmp_path: Path) -> str:
+    """Writes its pid, leaves a sleeping child behind, and runs the real YADE."""
+    return executable(tmp_path / "yade-wrapper.sh", f"""#!/bin/bash
+echo $$ > {tmp_path / 'wrapper.pid'}
+sleep 1000 &
+echo "wrapper: starting the real engine"
+"{shutil.which('yade')}" "$@"
+""")
+
+
+def yade_driver_stopping_in(tmp_path: Path, run: str, how: str) -> Path:
+    """The study's YADE driver, made to hang or to crash (SIGSEGV) when `run` starts."""
+    stop = "time.sleep(1000)" if how == "hang" else "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)"
+    text = yade.DRIVER.read_text()
+    anchor = '    print("RUN %s" % run["name"], flush=True)\n'
+    assert anchor in text
+    driver = tmp_path / "collisions.py"
+    driver.write_text(text.replace(anchor, anchor + f'    if run["name"] == {run!r}:\n        {stop}\n'))
+    return driver
+
+
+@pytest.mark.parametrize("how", ["hang", "crash"])
+def test_hung_or_crashed_yade(tmp_path, monkeypatch, how, no_expected_cost):
+    require_engine("yade", "yade")
+    specs = three_runs("yade")
+    monkeypatch.setattr(yade, "DRIVER", yade_driver_stopping_in(tmp_path, specs[1].name, how))
+    floor = 10.0  # YADE takes ~1.5 s to start
+    started = time.monotonic()
+    sweep = yade.run_yade(specs, tmp_path / "out", executable=yade_wrapper(tmp_path), timeout_floor_s=floor)
+    assert time.monotonic() - started < floor + 30
+    what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV"
+    assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "yade", "YADE 2023.02a", what, f"RUN {specs[1].name}")
+    assert_group_gone(tmp_path / "wrapper.pid")
+
+
+def test_time_limit_scales_with_the_sweep_above_the_floor():
+    specs = three_runs("liggghts")
+    small = time_limit("liggghts", specs, floor_s=1.0)
+    assert small > 1.0  # the expected length, not the floor
+    assert time_limit("liggghts", specs, floor_s=1000.0) == 1000.0
+    longer = [RunSpec(CASE, "liggghts", "viscoelastic", s.pair, VELOCITY, time_step_factor=100_000) for s in specs]
+    extra_steps = sum(s.steps() for s in longer) - sum(s.steps() for s in specs)
+    assert extra_steps > 100_000
+    assert time_limit("liggghts", longer, floor_s=1.0) - small == pytest.approx(
+        engine_process.SAFETY_FACTOR * engine_process.COST["liggghts"].per_step_s * extra_steps)
+    assert time_limit("yade", [s.__class__(CASE, "yade", s.law, s.pair, VELOCITY) for s in specs], 1.0) > small
+    with pytest.raises(ValueError, match="positive"):
+        time_limit("lammps", specs, floor_s=0.0)
