@@ -40,10 +40,10 @@ args = sys.argv[1:]
 sweep = "-in" in args
 if sweep and {mode!r} == "crash":
     sys.exit(139)
-rc = subprocess.call([{real!r}, *args])
 if sweep and {mode!r} == "hang":
     open("hang.pid", "w").write(str(os.getpid()))
     time.sleep(120)
+rc = subprocess.call([{real!r}, *args])
 for raw in glob.glob("*.lammps.txt") if sweep else []:
     if {mode!r} == "stretch" and "-viscoelastic" in raw:
         lines = open(raw).read().splitlines()
@@ -129,7 +129,7 @@ def test_engine_one_percent_wrong_fails_only_the_time_checks(project, tmp_path):
     assert gated.err_T.to_numpy() == pytest.approx(0.01, abs=2e-4)
     assert junit(project) == (6, {"lammps.viscoelastic.sphere-sphere.x0.T", "lammps.viscoelastic.sphere-sphere.F0.T"})
     assert "**Verdict: FAIL** — 4 of 6 gated checks" in report_head(project)
-    assert "lammps viscoelastic sphere-sphere x0 T: 1.00" in out.stdout + out.stderr
+    assert "lammps viscoelastic sphere-sphere x0 T: 9.9" in out.stdout + out.stderr  # 1.01 (1 - 5.5e-5) - 1
 
 
 def test_failed_out_of_the_box_run_is_reported_not_gated(project, tmp_path):
@@ -152,6 +152,17 @@ def test_crashed_engine_fails_every_check_naming_the_run(project, tmp_path):
     assert "**Verdict: FAIL** — 0 of 6 gated checks" in head
     assert "1 of 1 runs failed; first: lammps-viscoelastic-sphere-sphere-K0.1-" in head
     assert "139" in head and "1 of 1 runs failed" in out.stdout + out.stderr
+
+
+def test_hung_engine_is_stopped_and_fails_every_check(project, tmp_path):
+    started = time.monotonic()
+    out = study(project, "engine_timeout_floor_s=1", env=faulty_lammps(tmp_path, "hang"))
+    assert out.returncode != 0
+    assert time.monotonic() - started < 100  # the wrapper would sleep 120 s; the limit here is ~11 s
+    n, failing = junit(project)
+    assert n == 6 and len(failing) == 6
+    head = report_head(project)
+    assert "**Verdict: FAIL** — 0 of 6 gated checks" in head and "did not finish within" in head
 
 
 def test_copied_results_read_their_own_dumps_and_an_edited_dump_is_refused(project, tmp_path):

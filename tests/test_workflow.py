@@ -80,3 +80,33 @@ def test_one_case_for_real_then_only_changes_rerun(project):
     case.write_text(case.read_text().replace("density: 7800 kg/m^3", "density: 7850 kg/m^3"))
     changed = snakemake("-n", "steel", *args, "--rerun-triggers", "mtime", cwd=project)
     assert "run_engine" in changed.stdout and "plan" in changed.stdout
+
+
+@pytest.mark.parametrize("file_name, said", [
+    ("steel (v2).yaml", "the file name 'steel (v2)' cannot name a case"),
+    ("all.yaml", "the file name 'all' is taken by the workflow's rule 'all'"),
+    ("report.yaml", "the file name 'report' is taken by the workflow's rule 'report'"),
+])
+def test_case_file_name_that_cannot_be_a_target_is_refused(project, file_name, said):
+    shutil.copy(project / "cases" / "steel.yaml", project / "cases" / file_name)
+    (project / "cases" / file_name).write_text((project / "cases" / "steel.yaml").read_text()
+                                               .replace("name: steel", "name: other"))
+    out = snakemake("-n", "all", cwd=project)
+    assert out.returncode != 0
+    assert f"cases/{file_name}: {said}" in out.stdout + out.stderr
+
+
+def test_two_case_files_claiming_one_name_are_refused(project):
+    shutil.copy(project / "cases" / "steel.yaml", project / "cases" / "steel_copy.yaml")
+    out = snakemake("-n", "all", cwd=project)
+    assert out.returncode != 0
+    assert "cases/steel_copy.yaml: field 'name': 'steel' is already the name of cases/steel.yaml" in \
+        out.stdout + out.stderr
+
+
+def test_numbers_given_through_config_inside_lists_and_mappings_are_numbers(project):
+    ok = snakemake("-n", "all", "--config", "tolerance={T: 1e-6, A: 2.5E-4, eps: 5e-4}", "K_grid=[1e-2,0.1]",
+                   cwd=project)
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    bad = snakemake("-n", "all", "--config", "tolerance={T: 1e-6 s, A: 1e-4, eps: 5e-4}", cwd=project)
+    assert bad.returncode != 0 and "tolerance" in bad.stdout + bad.stderr and "1e-6 s" in bad.stdout + bad.stderr

@@ -12,7 +12,7 @@ engine = snakemake.wildcards.engine
 runs = plan_at_velocity(load_case(snakemake.input.case), engine, c["K"], c["time_step_factors"], c["velocity"],
                         "convergence")
 log.info("%d %s convergence runs into %s", len(runs), engine, snakemake.output.runs)
-sweep = run_sweep(engine, runs, snakemake.output.runs).raise_first()
+sweep = run_sweep(engine, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s).raise_first()
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs], engine=engine,
                engine_seconds=sweep.engine_seconds)
 log.info("%d runs in an engine process of %.2f s", len(runs), sweep.engine_seconds)

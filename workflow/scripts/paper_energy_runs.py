@@ -11,7 +11,7 @@ e = snakemake.params.energy
 engine = snakemake.params.engine
 runs = plan_at_velocity(load_case(snakemake.input.case), engine, e["K"], [snakemake.params.time_step_factor],
                         e["velocity"], "energy")
-sweep = run_sweep(engine, runs, snakemake.output.runs).raise_first()
+sweep = run_sweep(engine, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s).raise_first()
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs], engine=engine,
                engine_seconds=sweep.engine_seconds)
 log.info("%d runs", len(runs))

@@ -20,7 +20,7 @@ case = load_case(snakemake.input.case)
 runs = plan_runs(case, [engine], s["laws"], s["K_grid"], s["time_step_factor"], s["default_law_match_K"],
                  s["max_overlap_ratio"]).runs
 log.info("%s: %d %s runs into %s", case.name, len(runs), engine, snakemake.output.runs)
-sweep = run_sweep(engine, runs, snakemake.output.runs)
+sweep = run_sweep(engine, runs, snakemake.output.runs, timeout_floor_s=s["engine_timeout_floor_s"])
 law = {r.name: r.law for r in runs}
 for name, err in sweep.failures.items():
     if law[name] in GATED_LAWS:
