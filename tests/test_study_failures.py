@@ -216,8 +216,11 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
                 pass
     assert verdict_files(project) == []
 
-    locked = study(project)
-    assert locked.returncode != 0 and "LockException" in locked.stdout + locked.stderr
+    # What a user meets next: the killed run's outputs are incomplete, and its lock is still there.
+    incomplete = study(project)
+    assert incomplete.returncode != 0 and "IncompleteFilesException" in incomplete.stderr
+    locked = study(project, extra=["--rerun-incomplete"])
+    assert locked.returncode != 0 and "LockException" in locked.stderr
     # The README's recovery: unlock, then rerun what was left incomplete.
     unlock = subprocess.run([sys.executable, "-m", "snakemake", "--unlock"], cwd=project, capture_output=True,
                             text=True, timeout=120)
