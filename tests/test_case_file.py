@@ -15,7 +15,7 @@ viscosity: 6.7e5 P
 density: 7.8 g/cm^3
 geometries: [sphere-sphere, sphere-plane]
 impact:
-  velocity: [100 cm/s, 1 m/s]
+  velocity: [100 cm/s, 2 m/s]
 """
 
 BODIES = """
@@ -44,7 +44,7 @@ def test_paper_units_convert_to_SI(tmp_path):
     assert ss.body_1.density == pytest.approx(7800, rel=1e-15)
     assert ss.R == pytest.approx(0.003175, rel=1e-15) and sp.R == pytest.approx(0.00635, rel=1e-15)
     assert sp.M == pytest.approx(2 * ss.M, rel=1e-15)
-    assert case.impact_velocities(ss) == pytest.approx([1.0, 1.0], rel=1e-15)
+    assert case.impact_velocities(ss) == pytest.approx([1.0, 2.0], rel=1e-15)
 
 
 def test_explicit_bodies_and_target_K(tmp_path):
@@ -72,8 +72,8 @@ def test_rigid_plane(tmp_path):
     ("effective_modulus: 109 GPa", "effective_modulus: -109 GPa", "effective_modulus", "positive"),
     ("density: 7.8 g/cm^3", "density: 0 g/cm^3", "density", "positive"),
     ("viscosity: 6.7e5 P", "viscosity: -1 P", "viscosity", "non-negative"),
-    ("[100 cm/s, 1 m/s]", "[100 cm/s, -1 m/s]", "impact.velocity[1]", "positive"),
-    ("[100 cm/s, 1 m/s]", "[100 cm/s, 1 m]", "impact.velocity[1]", "expected a [length] / [time]"),
+    ("[100 cm/s, 2 m/s]", "[100 cm/s, -1 m/s]", "impact.velocity[1]", "positive"),
+    ("[100 cm/s, 2 m/s]", "[100 cm/s, 1 m]", "impact.velocity[1]", "expected a [length] / [time]"),
     ("geometries: [sphere-sphere, sphere-plane]", "geometries: [sphere-cube]", "geometries", "drawn from"),
 ])
 def test_bad_material_case(tmp_path, old, new, field, words):
