@@ -399,7 +399,12 @@ def _impact(data: dict, path) -> tuple[tuple[float, ...], tuple[float, ...]]:
 
 def _check_finite(pair: ContactPair, fields: dict, path) -> None:
     """E*, R*, M* must be positive, finite doubles (extreme inputs can overflow or underflow)."""
-    for symbol, value, unit in (("E*", pair.E, "Pa"), ("R*", pair.R, "m"), ("M*", pair.M, "kg")):
+    for symbol, attribute, unit in (("E*", "E", "Pa"), ("R*", "R", "m"), ("M*", "M", "kg")):
+        try:
+            value = getattr(pair, attribute)
+        except (OverflowError, ZeroDivisionError) as err:  # e.g. radius**3 in the mass
+            raise CaseError(path, fields[symbol], f"{symbol} ({pair.geometry}) cannot be computed in double "
+                                                  f"precision ({err})")
         if not (math.isfinite(value) and value > 0):
             raise CaseError(path, fields[symbol], f"gives {symbol} = {value:g} {unit} ({pair.geometry}): "
                                                   "beyond double precision")
@@ -428,7 +433,7 @@ def parse_case(data, path) -> Case:
         sphere = Body(radius, density)
         other = {"sphere-sphere": sphere, "sphere-plane": Body(math.inf, math.inf)}
         pairs = tuple(ContactPair(g, sphere, other[g], E, eta) for g in geometries)
-        fields = {"E*": "effective_modulus", "R*": "radius", "M*": "density"}
+        fields = {"E*": "effective_modulus", "R*": "radius", "M*": "radius"}  # M* = (4/3) pi R^3 rho
     for pair in pairs:
         _check_finite(pair, fields, path)
 

@@ -520,7 +520,7 @@ def t_not_mapping(rnd, pairs, truth):
 
 
 def t_deep(rnd, pairs, truth):
-    n = rnd.choice([50, 1000, 10000])
+    n = rnd.choice([50, 500, 2000])
     text = "\n".join(render(pairs)) + "\nnote: " + "[" * n + "]" * n + "\n"
     return text.encode(), None
 
