@@ -1,6 +1,6 @@
 """Material case files (YAML) -> validated `Case` objects in SI units.
 
-Two ways to describe the bodies (see cases/README.md for the full format):
+Two ways to describe the bodies (README.md, "Case files", gives the full format):
 
 1. One material, as in the paper's Table 1: ``effective_modulus`` (E* of two bodies of the
    material), ``radius`` and ``density`` of the sphere; ``geometries`` picks sphere-sphere
@@ -10,23 +10,38 @@ Two ways to describe the bodies (see cases/README.md for the full format):
 
 Both need ``viscosity`` (the effective eta). An optional ``impact`` block gives ``K`` (a list of
 target dissipation parameters) or ``velocity`` (a list of impact velocities); without it the
-study's K grid (config/config.yaml) applies. Quantities carry their
-units as strings ("109 GPa", "6.7e5 P", "0.635 cm", "7800 kg/m^3", "1 m/s"), converted with pint.
-Every error names the file and the field.
+study's K grid (config/config.yaml) applies.
+
+The file is read strictly, so that it cannot say one thing and run another:
+
+- a quantity is exactly one plain number, one space and a unit ("109 GPa", "6.7e5 P",
+  "0.635 cm", "7800 kg/m^3", "1 m/s"); comma decimals, digit groups, a second number, an
+  expression or any other text is an error, and so is a number beyond double precision;
+- the structure is checked against `case_file.schema.yaml`: unknown keys, contradictory blocks
+  (``bodies`` with ``effective_modulus``, a rigid plane with a modulus), empty or repeated lists
+  are errors; documentation keys are allowed only by name (description, note,
+  <field>_source, <field>_note);
+- the YAML is plain data: duplicated keys, anchors and aliases, explicit tags, YAML 1.1 number
+  and boolean spellings (0.3_0, 010, 1:30, yes) and deep nesting are errors.
+
+Every error is a `CaseError` naming the file and the field.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import jsonschema
 import pint
 import yaml
 
 from .contact_pair import GEOMETRIES, Body, ContactPair
 
 UNITS = pint.UnitRegistry()
+SCHEMA_PATH = Path(__file__).with_name("case_file.schema.yaml")
 
 # field -> (pint dimensionality, SI unit)
 DIMENSIONS = {
@@ -37,6 +52,22 @@ DIMENSIONS = {
     "density": ("[mass] / [length] ** 3", "kg/m^3"),
     "velocity": ("[length] / [time]", "m/s"),
 }
+
+#: One plain decimal number (ASCII digits only: Python's float() would also take other
+#: scripts' digits and underscores).
+NUMBER = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+#: A unit: names (letters, no digits) with optional integer exponents (^2, **-3), joined by
+#: '*', '/' or a space. No parentheses, no numbers but exponents: "GPa 2" or "m2" is refused.
+_FACTOR = r"[^\W\d]+(?:(?:\^|\*\*)[+-]?[0-9]+)?"
+UNIT = rf"{_FACTOR}(?:(?: ?[*/] ?| ){_FACTOR})*"
+QUANTITY = re.compile(rf"({NUMBER}) ({UNIT})")
+_PLAIN_INT = re.compile(r"[+-]?(?:0|[1-9][0-9]*)")
+_PLAIN_FLOAT = re.compile(NUMBER)
+
+#: Deeper nesting than a case file needs (mapping > bodies > body > value) is refused before
+#: PyYAML's recursive composer sees it.
+MAX_DEPTH = 6
+MAX_BYTES = 1_000_000
 
 
 class CaseError(ValueError):
@@ -73,23 +104,61 @@ class Case:
         return [pair.velocity_for_dissipation(k) for k in (self.K or tuple(K_grid))]
 
 
+def _dimension(name: str) -> tuple[str, str]:
+    """(dimensionality, SI unit) of a field path such as 'bodies[1].young' or 'impact.velocity[0]'."""
+    return DIMENSIONS[name.split(".")[-1].split("[")[0]]
+
+
+def _not_a_quantity(value, name: str) -> str:
+    """The problem with a value that is not a quantity string at all."""
+    si_unit = _dimension(name)[1]
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return f"{value!r} has no unit; write it as e.g. '{value} {si_unit}'"
+    return f"expected a quantity with a unit, e.g. '1 {si_unit}', got {value!r}"
+
+
 def quantity(value, name: str, path) -> float:
-    """Convert a '<number> <unit>' string (or a number with unit) to SI for field `name`."""
-    dimension, si_unit = DIMENSIONS[name.split(".")[-1].split("[")[0]]
-    if isinstance(value, bool) or value is None:
-        raise CaseError(path, name, f"expected a quantity with a unit, e.g. '1 {si_unit}', got {value!r}")
-    if isinstance(value, (int, float)):
-        raise CaseError(path, name, f"{value!r} has no unit; write it as e.g. '{value} {si_unit}'")
-    try:
-        q = UNITS.Quantity(str(value))
-    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, ValueError,
-            AttributeError, TypeError) as err:
-        raise CaseError(path, name, f"cannot read {value!r} as a quantity ({err})")
-    if not isinstance(q, pint.Quantity) or q.dimensionless:
+    """Convert a '<number> <unit>' string to SI for field `name` (a path such as 'radius' or
+    'bodies[0].young'; its last name picks the dimension). Strict: exactly one plain number,
+    one space, one unit that pint reads as a unit alone; the result must be finite."""
+    dimension, si_unit = _dimension(name)
+    if not isinstance(value, str):
+        raise CaseError(path, name, _not_a_quantity(value, name))
+    match = QUANTITY.fullmatch(value)
+    if not match:
+        raise CaseError(path, name, f"cannot read {value!r} as a quantity: write one plain number, one space "
+                                    f"and a unit, e.g. '1.5 {si_unit}' (no comma decimals, digit groups, "
+                                    f"second numbers, expressions or other text)")
+    number, unit_text = match.groups()
+    x = float(number)
+    if not math.isfinite(x):
+        raise CaseError(path, name, f"the number {number} in {value!r} is beyond double precision")
+    if x == 0 and any(c in "123456789" for c in re.split("[eE]", number)[0]):
+        raise CaseError(path, name, f"the number {number} in {value!r} underflows to 0 in double precision")
+    try:  # pint parses user text: any of its exceptions means the unit cannot be read
+        unit = UNITS.parse_units(unit_text)
+        factors = [UNITS.Unit(u) for u in unit._units]
+    except Exception as err:  # noqa: BLE001
+        raise CaseError(path, name, f"cannot read the unit {unit_text!r} of {value!r} ({type(err).__name__}: {err})")
+    plain = [str(f) for f in factors if f.dimensionless]
+    if plain:  # 'pi', 'percent', 'radian' would silently scale the number
+        raise CaseError(path, name, f"cannot read {value!r}: {plain[0]!r} is a dimensionless factor, not a unit")
+    if unit.dimensionless:
         raise CaseError(path, name, f"{value!r} has no unit; expected a {dimension} such as '{si_unit}'")
-    if not q.check(dimension):
-        raise CaseError(path, name, f"{value!r} is a {q.dimensionality}, expected a {dimension} (e.g. {si_unit})")
-    return float(q.to(si_unit).magnitude)
+    try:
+        q = UNITS.Quantity(x, unit)
+        if not q.check(dimension):
+            raise CaseError(path, name, f"{value!r} is a {q.dimensionality}, expected a {dimension} (e.g. {si_unit})")
+        si = float(q.to(si_unit).magnitude)
+    except CaseError:
+        raise
+    except Exception as err:  # noqa: BLE001 - e.g. an offset unit (degC) or an overflow in the conversion
+        raise CaseError(path, name, f"cannot convert {value!r} to {si_unit} ({type(err).__name__}: {err})")
+    if not math.isfinite(si):
+        raise CaseError(path, name, f"{value!r} is beyond double precision in SI ({si_unit})")
+    if si == 0 and x != 0:
+        raise CaseError(path, name, f"{value!r} underflows to 0 {si_unit} in double precision")
+    return si + 0.0  # -0.0 -> 0.0
 
 
 def _positive(value, name, path) -> float:
@@ -102,34 +171,205 @@ def _positive(value, name, path) -> float:
 def _poisson(value, name, path) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise CaseError(path, name, f"must be a number (dimensionless), got {value!r}")
-    if not -1.0 < value < 0.5:
+    if not -1.0 < value < 0.5:  # also refuses nan
         raise CaseError(path, name, f"Poisson's ratio must lie in (-1, 0.5), got {value}")
     return float(value)
 
 
-def _require(data: dict, key: str, where: str, path):
-    if key not in data:
-        raise CaseError(path, where + key, "missing")
-    return data[key]
+# ------------------------------------------------------------------------------ YAML as plain data
+def _char(c) -> str:
+    return f"U+{c if isinstance(c, int) else ord(c):04X}"
 
 
-def _body(spec, index: int, path) -> Body:
+def _join(parent: str, key) -> str:
+    return f"{parent}.{key}" if parent else str(key)
+
+
+class _Frame:
+    """A mapping or sequence being read: its field path and where in it the reader is."""
+
+    def __init__(self, kind: str, path: str):
+        self.kind, self.path = kind, path
+        self.key = None  # mapping: the key whose value comes next (None: a key comes next)
+        self.keys: dict[str, int] = {}  # mapping: key -> line
+        self.index = 0  # sequence: index of the next item
+
+    def child(self) -> str:
+        if self.kind == "seq":
+            return f"{self.path}[{self.index}]"
+        return _join(self.path, self.key) if self.key is not None else (self.path or "(top level)")
+
+    def done(self, key: str | None = None):
+        """A child node ended (`key`: it was a key)."""
+        if self.kind == "seq":
+            self.index += 1
+        else:
+            self.key = key
+
+
+def _scan(text: str, path) -> None:
+    """Walk the YAML events once and refuse what is not plain data, naming the field:
+    duplicated keys, keys that are not names, anchors and aliases, explicit tags, YAML 1.1
+    spellings of numbers and booleans, nesting deeper than MAX_DEPTH, several documents."""
+    try:  # the reader refuses control characters (NUL, ESC, ...) as it is made
+        loader = yaml.SafeLoader(text)
+    except yaml.reader.ReaderError as err:
+        line = text[:err.position].count("\n") + 1
+        raise CaseError(path, "(file)", f"not valid YAML: character {_char(err.character)} at line {line} is not "
+                                        "allowed in a YAML file")
+    stack: list[_Frame] = []
+    documents = 0
+
+    def here() -> str:
+        return stack[-1].child() if stack else "(top level)"
+
+    def refuse(problem: str, event) -> None:
+        raise CaseError(path, here(), f"{problem} (line {event.start_mark.line + 1})")
+
+    try:
+        while loader.check_event():
+            event = loader.get_event()
+            if isinstance(event, yaml.DocumentStartEvent):
+                documents += 1
+                if documents > 1:
+                    raise CaseError(path, "(file)", f"holds more than one YAML document (line {event.start_mark.line + 1})")
+                continue
+            if isinstance(event, (yaml.StreamStartEvent, yaml.StreamEndEvent, yaml.DocumentEndEvent)):
+                continue
+            if isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
+                stack.pop()
+                if stack:
+                    stack[-1].done()
+                continue
+            if isinstance(event, yaml.AliasEvent) or event.anchor is not None:
+                refuse("anchors (&name) and aliases (*name) are not allowed: write each value out", event)
+            if event.tag is not None:
+                refuse(f"explicit YAML tags ({event.tag}) are not allowed: a case file is plain data", event)
+            is_key = bool(stack) and stack[-1].kind == "map" and stack[-1].key is None
+            if is_key and not isinstance(event, yaml.ScalarEvent):
+                refuse("a key must be a plain name, not a list or mapping", event)
+            if isinstance(event, yaml.ScalarEvent):
+                tag = loader.resolve(yaml.ScalarNode, event.value, event.implicit)
+                raw = event.value
+                if is_key:
+                    if tag != "tag:yaml.org,2002:str":
+                        refuse(f"a key must be a name, got {raw!r}"
+                               + (" (a YAML merge key)" if tag.endswith(":merge") else ""), event)
+                    frame = stack[-1]
+                    if raw in frame.keys:
+                        raise CaseError(path, _join(frame.path, raw),
+                                        f"given twice (lines {frame.keys[raw]} and {event.start_mark.line + 1}); "
+                                        "YAML would silently keep the last: give it once")
+                    frame.keys[raw] = event.start_mark.line + 1
+                    frame.done(raw)
+                    continue
+                if tag == "tag:yaml.org,2002:int" and not _PLAIN_INT.fullmatch(raw) or \
+                        tag == "tag:yaml.org,2002:float" and not _PLAIN_FLOAT.fullmatch(raw):
+                    refuse(f"{raw!r} is not a plain decimal number (YAML 1.1 reads underscores, leading zeros, "
+                           "'a:b', .inf and .nan as numbers you may not mean): write e.g. 0.25", event)
+                if tag == "tag:yaml.org,2002:bool" and raw not in ("true", "false"):
+                    refuse(f"YAML 1.1 reads {raw!r} as a boolean: write true or false, or quote text", event)
+                if stack:
+                    stack[-1].done()
+                continue
+            # the start of a mapping or a sequence
+            if len(stack) >= MAX_DEPTH:
+                refuse(f"nested more than {MAX_DEPTH} levels deep; a case file needs 3", event)
+            stack.append(_Frame("map" if isinstance(event, yaml.MappingStartEvent) else "seq",
+                                here() if stack else ""))
+    except yaml.reader.ReaderError as err:
+        line = text[:err.position].count("\n") + 1
+        raise CaseError(path, here(), f"not valid YAML: character {_char(err.character)} at line {line} is not "
+                                      "allowed in a YAML file")
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        at = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        problem = getattr(err, "problem", None) or " ".join(str(err).split())
+        raise CaseError(path, here() if stack else "(file)", f"not valid YAML{at}: {problem}")
+    finally:
+        loader.dispose()
+
+
+# ------------------------------------------------------------------------------ the schema
+_SCHEMA = None
+
+
+def _validator():
+    global _SCHEMA
+    if _SCHEMA is None:
+        schema = yaml.safe_load(SCHEMA_PATH.read_text(encoding="utf-8"))
+        jsonschema.Draft202012Validator.check_schema(schema)
+        _SCHEMA = jsonschema.Draft202012Validator(schema)
+    return _SCHEMA
+
+
+def _field(where) -> str:
+    out = ""
+    for part in where:
+        out = f"{out}[{part}]" if isinstance(part, int) else _join(out, part)
+    return out or "(top level)"
+
+
+#: The order in which to report schema errors at the same depth: a misspelt or missing key
+#: first (it usually explains the rest), the 'exactly one of' summaries last.
+_PRIORITY = {"additionalProperties": 0, "required": 1, "not": 2, "const": 3, "type": 4, "oneOf": 9}
+
+
+def _schema_problem(err, data) -> tuple[str, str]:
+    """(field, readable problem) of a jsonschema error on `data`."""
+    where = list(err.absolute_path)
+    schema = err.schema if isinstance(err.schema, dict) else {}
+    messages = schema.get("x-messages", {})
+    instance = err.instance
+    if err.validator == "required":
+        missing = [k for k in err.validator_value if k not in instance]
+        hint = " (or describe the contact by 'bodies')" if not where and missing[0] in (
+            "effective_modulus", "radius", "density") else ""
+        return _field(where + [missing[0]]), "missing" + hint
+    if err.validator == "additionalProperties":
+        known = schema.get("properties", {})
+        patterns = list(schema.get("patternProperties", {}))
+        extra = sorted(str(k) for k in instance if k not in known and not any(re.search(p, str(k)) for p in patterns))
+        docs = "description, note, <field>_source, <field>_note" if not where else "note, <field>_source, <field>_note"
+        return (_field(where + [extra[0]]),
+                f"unknown field (a typo?); known here: {', '.join(known)}; documentation: {docs}")
+    if schema.get("x-parent"):  # an item error better said about its list
+        where, instance = where[:-1], data
+        for part in where:
+            instance = instance[part]
+    if err.validator in messages:
+        problem = messages[err.validator].replace("{instance!r}", repr(instance))
+    elif schema.get("x-kind") == "quantity" and err.validator == "type":
+        return _field(where), _not_a_quantity(instance, _field(where))
+    else:
+        problem = err.message
+    if err.validator == "type" and isinstance(instance, str) and _PLAIN_FLOAT.fullmatch(instance.strip()):
+        problem += f" (YAML 1.1 reads {instance!r} as text: write the exponent with a dot and a sign, e.g. 1.0e-1)"
+    return _field(where), problem
+
+
+def _check_schema(data, path) -> None:
+    errors = list(_validator().iter_errors(data))
+    if not errors:
+        return
+    errors.sort(key=lambda e: (len(e.absolute_path), _PRIORITY.get(e.validator, 5), _field(e.absolute_path)))
+    field_name, problem = _schema_problem(errors[0], data)
+    raise CaseError(path, field_name, problem)
+
+
+# ------------------------------------------------------------------------------ building the case
+def _body(spec: dict, index: int, path) -> Body:
+    """A body from its (schema-checked) mapping. SI units."""
     where = f"bodies[{index}]"
-    if not isinstance(spec, dict):
-        raise CaseError(path, where, f"must be a mapping, got {spec!r}")
     plane = spec.get("plane", False)
-    if plane not in (False, True, "rigid"):
-        raise CaseError(path, where + ".plane", f"must be true, false or 'rigid', got {plane!r}")
-    if plane and index == 0:
-        raise CaseError(path, where + ".plane", "the first body must be a sphere")
     if plane == "rigid":
         return Body(math.inf, math.inf, math.inf, 0.0)
-    young = _positive(_require(spec, "young", where + ".", path), where + ".young", path)
-    poisson = _poisson(_require(spec, "poisson", where + ".", path), where + ".poisson", path)
+    young = _positive(spec["young"], where + ".young", path)
+    poisson = _poisson(spec["poisson"], where + ".poisson", path)
     if plane:
         return Body(math.inf, math.inf, young, poisson)
-    radius = _positive(_require(spec, "radius", where + ".", path), where + ".radius", path)
-    density = _positive(_require(spec, "density", where + ".", path), where + ".density", path)
+    radius = _positive(spec["radius"], where + ".radius", path)
+    density = _positive(spec["density"], where + ".density", path)
     return Body(radius, density, young, poisson)
 
 
@@ -137,61 +377,93 @@ def _impact(data: dict, path) -> tuple[tuple[float, ...], tuple[float, ...]]:
     if "impact" not in data:
         return (), ()  # the study's K grid applies
     impact = data["impact"]
-    if not isinstance(impact, dict) or len(set(impact) & {"K", "velocity"}) != 1:
-        raise CaseError(path, "impact", "give exactly one of 'K' (a list) or 'velocity' (a list)")
     if "K" in impact:
-        ks = impact["K"] if isinstance(impact["K"], list) else [impact["K"]]
-        for i, k in enumerate(ks):
+        ks = []
+        for i, k in enumerate(impact["K"]):
             if isinstance(k, bool) or not isinstance(k, (int, float)) or not 0 < k <= 10:
                 raise CaseError(path, f"impact.K[{i}]", f"must be a number in (0, 10], got {k!r}")
-        return tuple(float(k) for k in ks), ()
-    vs = impact["velocity"] if isinstance(impact["velocity"], list) else [impact["velocity"]]
-    return (), tuple(_positive(v, f"impact.velocity[{i}]", path) for i, v in enumerate(vs))
+            if float(k) in ks:
+                raise CaseError(path, f"impact.K[{i}]", f"gives K = {k} a second time (impact.K[{ks.index(float(k))}])")
+            ks.append(float(k))
+        return tuple(ks), ()
+    vs = []
+    for i, v in enumerate(impact["velocity"]):
+        x = _positive(v, f"impact.velocity[{i}]", path)
+        for j, y in enumerate(vs):
+            if math.isclose(x, y, rel_tol=1e-12):
+                raise CaseError(path, f"impact.velocity[{i}]",
+                                f"{v!r} is the velocity of impact.velocity[{j}] again ({y:g} m/s)")
+        vs.append(x)
+    return (), tuple(vs)
+
+
+def _check_finite(pair: ContactPair, fields: dict, path) -> None:
+    """E*, R*, M* must be positive, finite doubles (extreme inputs can overflow or underflow)."""
+    for symbol, attribute, unit in (("E*", "E", "Pa"), ("R*", "R", "m"), ("M*", "M", "kg")):
+        try:
+            value = getattr(pair, attribute)
+        except (OverflowError, ZeroDivisionError) as err:  # e.g. radius**3 in the mass
+            raise CaseError(path, fields[symbol], f"{symbol} ({pair.geometry}) cannot be computed in double "
+                                                  f"precision ({err})")
+        if not (math.isfinite(value) and value > 0):
+            raise CaseError(path, fields[symbol], f"gives {symbol} = {value:g} {unit} ({pair.geometry}): "
+                                                  "beyond double precision")
 
 
 def parse_case(data, path) -> Case:
     """Validate the parsed YAML `data` of case file `path` (used in messages)."""
     if not isinstance(data, dict):
-        raise CaseError(path, "(top level)", "a case file must be a YAML mapping")
+        got = "nothing (an empty file)" if data is None else f"a {type(data).__name__}: {data!r:.60}"
+        raise CaseError(path, "(top level)", f"a case file must be a YAML mapping of fields, got {got}")
+    _check_schema(data, path)
     name = data.get("name", Path(str(path)).stem)
-    eta = quantity(_require(data, "viscosity", "", path), "viscosity", path)
+    eta = quantity(data["viscosity"], "viscosity", path)
     if not (eta >= 0 and math.isfinite(eta)):
         raise CaseError(path, "viscosity", f"must be non-negative, got {data['viscosity']!r}")
 
     if "bodies" in data:
         bodies = data["bodies"]
-        if not isinstance(bodies, list) or len(bodies) != 2:
-            raise CaseError(path, "bodies", "must be a list of exactly two bodies")
         pairs = (ContactPair.from_bodies(_body(bodies[0], 0, path), _body(bodies[1], 1, path), eta),)
+        fields = {"E*": "bodies", "R*": "bodies", "M*": "bodies"}
     else:
-        E = _positive(_require(data, "effective_modulus", "", path), "effective_modulus", path)
-        radius = _positive(_require(data, "radius", "", path), "radius", path)
-        density = _positive(_require(data, "density", "", path), "density", path)
+        E = _positive(data["effective_modulus"], "effective_modulus", path)
+        radius = _positive(data["radius"], "radius", path)
+        density = _positive(data["density"], "density", path)
         geometries = data.get("geometries", list(GEOMETRIES))
-        if not isinstance(geometries, list) or not geometries or any(g not in GEOMETRIES for g in geometries):
-            raise CaseError(path, "geometries", f"must be a list drawn from {list(GEOMETRIES)}, got {geometries!r}")
         sphere = Body(radius, density)
         other = {"sphere-sphere": sphere, "sphere-plane": Body(math.inf, math.inf)}
         pairs = tuple(ContactPair(g, sphere, other[g], E, eta) for g in geometries)
+        fields = {"E*": "effective_modulus", "R*": "radius", "M*": "radius"}  # M* = (4/3) pi R^3 rho
+    for pair in pairs:
+        _check_finite(pair, fields, path)
 
     K, velocities = _impact(data, path)
     if K and eta == 0:
         raise CaseError(path, "impact.K", "a target K needs a positive viscosity")
     known = {"name", "description", "viscosity", "bodies", "effective_modulus", "radius",
              "density", "geometries", "impact"}
-    extra = {k: v for k, v in data.items() if k not in known}
+    extra = {k: v for k, v in data.items() if k not in known}  # the documentation keys
     return Case(str(name), str(path), pairs, K, velocities, str(data.get("description", "")), extra)
 
 
 def load_case(path) -> Case:
-    """Read and validate a case file."""
+    """Read and validate a case file: UTF-8 YAML, plain data, a mapping of known fields."""
     path = Path(path)
     try:
-        text = path.read_text()
+        raw = path.read_bytes()
     except OSError as err:
-        raise CaseError(path, "(file)", f"cannot read: {err.strerror}")
+        raise CaseError(path, "(file)", f"cannot read: {err.strerror or err}")
+    if len(raw) > MAX_BYTES:
+        raise CaseError(path, "(file)", f"is {len(raw)} bytes; a case file is a few hundred (limit {MAX_BYTES})")
     try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        raise CaseError(path, "(file)", f"not valid YAML: {err}")
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        line = raw[:err.start].count(b"\n") + 1
+        raise CaseError(path, "(file)", f"is not UTF-8 text (byte 0x{raw[err.start]:02x} at line {line}); "
+                                        "save it as UTF-8")
+    _scan(text, path)
+    try:
+        data = yaml.load(text, Loader=yaml.SafeLoader)  # noqa: S506 - SafeLoader, after _scan
+    except yaml.YAMLError as err:  # _scan has read the same events; kept as a guard
+        raise CaseError(path, "(file)", f"not valid YAML: {' '.join(str(err).split())}")
     return parse_case(data, path)

@@ -13,16 +13,104 @@ A velocity whose Hertz overlap delta_e exceeds `max_overlap_ratio` R* is not run
 reason recorded: there the contact radius is no longer small against R* (Hertz's premise), and
 the engines' contact geometry breaks down as delta approaches the radius (a sphere's centre
 would cross the plane). It takes km/s impacts for the stiff materials at large K.
+
+A case the engines cannot run honestly is refused here, before any engine starts, with a
+`PlanError` (a `CaseError`: it names the case file and the field):
+
+- a velocity, or a Hertz scale derived from it, that is not a finite positive double
+  (extreme magnitudes overflow or underflow: V_D = M*^2 E*^3 / (R* eta^5) easily does);
+- a velocity the case asks for (impact.velocity or impact.K) whose overlap is too small for
+  double-precision positions to resolve (`roundoff_error`); velocities of the study's K grid
+  that fail this are not run, with the reason, like the too-fast ones;
+- an empty plan: nothing left to run once the too-fast and unresolvable velocities are out.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
-from contact_model import Case
+from contact_model import Case, CaseError
 from reference import solve_collision
 
-from .run_spec import DEFAULT_LAW_CRITERION, LAWS, RunSpec
+from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, LAWS, RunSpec
+
+#: Unit round-off of an IEEE double: a stored number is off by at most this, relatively.
+UNIT_ROUNDOFF = 2.0**-53
+#: The largest round-off error of the overlap a run may carry, relative to delta_e.
+#:
+#: Why: the engines store the centres as doubles of magnitude X = |x1| + |x2| ~ R (the sphere's
+#: centre starts at -(R1 + gap)), so every position update x += v dt is rounded by up to
+#: u |x| (u = 2^-53), and the overlap delta, a difference of positions, carries that absolute
+#: error. The errors of successive steps have random signs, so after N steps they add up as a
+#: random walk, ~ sqrt(N) u X; relative to the maximum overlap that is
+#:     e_roundoff = sqrt(N) u X / delta_e,
+#: and the contact times and area inherit the same relative error (A = pi R* delta, and the
+#: start and end of contact are where delta crosses zero). Check against the one measurement:
+#: steel, sphere-plane, V = 1e-12 m/s (delta_e / R = 6e-13, N = 1302 steps at dt = T_e/1000)
+#: gives e_roundoff = 6.7e-3; all three engines missed T by 7e-3 there.
+#: A run may carry at most a tenth of the study's 5e-4 tolerance, so that round-off cannot
+#: decide between a pass and a fail: delta_e / X >= sqrt(N) u / 5e-5, about 8e-11 at
+#: dt = T_e/1000 (one ulp of the positions is then at most 1.4e-6 of delta_e).
+ROUNDOFF_LIMIT = 5e-5
+
+
+class PlanError(CaseError):
+    """A case the engines cannot run honestly; the message names the case file and the field."""
+
+
+def roundoff_error(spec: RunSpec) -> float:
+    """The expected relative error of the overlap from rounding the positions to doubles:
+    sqrt(steps) u X / delta_e, X the magnitude of the stored centres (see ROUNDOFF_LIMIT)."""
+    state = spec.initial_state()
+    X = abs(state["x1"]) + abs(state.get("x2", 0.0))
+    return math.sqrt(spec.steps()) * UNIT_ROUNDOFF * X / spec.scales["delta_e"]
+
+
+def _velocities(case: Case, pair, K_grid) -> list[tuple[float, str, str, float | None]]:
+    """(velocity, field, what it is, the target K or None) of every velocity of `pair`."""
+    if case.velocities:
+        return [(v, f"impact.velocity[{i}]", f"V = {v:.6g} m/s", None) for i, v in enumerate(case.velocities)]
+    if pair.eta == 0:
+        raise PlanError(case.path, "impact" if not case.K else "impact.K",
+                        "an elastic case (viscosity 0) needs impact velocities: no K can give them")
+    if case.K:
+        targets = [(k, f"impact.K[{i}]", f"K = {k:g}") for i, k in enumerate(case.K)]
+    else:
+        targets = [(k, "impact", f"K = {k:g} of the study's K grid (the case has no impact block)")
+                   for k in K_grid]
+    out = []
+    for k, where, what in targets:
+        try:
+            v = pair.velocity_for_dissipation(k)
+        except (OverflowError, ZeroDivisionError, ValueError) as err:
+            raise PlanError(case.path, where, f"{pair.geometry}: the velocity for {what} cannot be computed ({err})")
+        out.append((v, where, what, k))
+    return out
+
+
+def _checked(case: Case, pair, v: float, where: str, what: str, K_target, time_step_factor: float
+             ) -> tuple[dict, RunSpec]:
+    """The scales at `v` and a probe run, refusing what is not a finite positive double."""
+    def refuse(problem):
+        raise PlanError(case.path, where, f"{pair.geometry}, {what}: {problem}; the engines cannot run it")
+
+    if not (math.isfinite(v) and v > 0):
+        refuse(f"the impact velocity would be {v:g} m/s (V_D = {pair.viscous_velocity:g} m/s)")
+    try:
+        scales = pair.scales(v)
+        spec = RunSpec(case.name, ENGINES[0], "viscoelastic", pair, v, time_step_factor)
+        derived = {**scales, "dt": spec.time_step, "gap": spec.initial_gap(), **spec.initial_state()}
+    except (OverflowError, ZeroDivisionError, ValueError) as err:
+        refuse(f"the Hertz scales overflow ({err})")
+    for name, x in derived.items():
+        if name in ("K", "V_D") and pair.eta == 0:
+            continue  # K = 0 and V_D = inf: an elastic contact
+        if isinstance(x, float) and not (math.isfinite(x) and x != 0):
+            refuse(f"{name} = {x:g} is beyond double precision")
+    if K_target is not None and not math.isclose(scales["K"], K_target, rel_tol=1e-9):
+        refuse(f"the velocity {v:g} m/s gives K = {scales['K']:.12g}: precision lost")
+    return scales, spec
 
 
 def matched_restitution(engine: str, match_K: float) -> float:
@@ -41,8 +129,11 @@ class Plan:
 
 def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3, 0.5),
               time_step_factor: float = 1000.0, match_K: float = 0.1,
-              max_overlap_ratio: float = 0.5) -> Plan:
-    """Every run of `case` for the given engines and laws, in a stable order."""
+              max_overlap_ratio: float = 0.5, roundoff_limit: float = ROUNDOFF_LIMIT) -> Plan:
+    """Every run of `case` for the given engines and laws, in a stable order.
+
+    Raises `PlanError` (naming the case file and the field) for a case the engines cannot run
+    honestly: see the module's docstring."""
     unknown = set(laws) - set(LAWS)
     if unknown:
         raise ValueError(f"unknown contact law(s) {sorted(unknown)}; known: {LAWS}")
@@ -50,16 +141,28 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     allowed = {}  # geometry -> the velocities that are run
     for pair in case.pairs:
         allowed[pair.geometry] = []
-        for v in case.impact_velocities(pair, K_grid):
-            ratio = pair.scales(v)["delta_e"] / pair.R
-            if ratio <= max_overlap_ratio:
-                allowed[pair.geometry].append(v)
-            else:
-                plan.skipped.append({
-                    "case": case.name, "geometry": pair.geometry, "K": pair.dissipation_parameter(v),
-                    "V": v, "delta_e/R*": ratio,
-                    "reason": f"the Hertz overlap would be {ratio:.2g} R* (> {max_overlap_ratio:g} R*) at "
-                              f"V = {v:.3g} m/s"})
+        for v, where, what, K_target in _velocities(case, pair, K_grid):
+            scales, probe = _checked(case, pair, v, where, what, K_target, time_step_factor)
+            ratio = scales["delta_e"] / pair.R
+            skip = {"case": case.name, "geometry": pair.geometry, "K": scales["K"], "V": v, "delta_e/R*": ratio}
+            if ratio > max_overlap_ratio:
+                plan.skipped.append({**skip, "reason": f"the Hertz overlap would be {ratio:.2g} R* "
+                                                       f"(> {max_overlap_ratio:g} R*) at V = {v:.3g} m/s"})
+                continue
+            error = roundoff_error(probe)
+            if error > roundoff_limit:
+                reason = (f"the Hertz overlap {ratio:.2g} R* at V = {v:.3g} m/s is too small for double-precision "
+                          f"positions: round-off would give a relative error of about {error:.1g} "
+                          f"(> {roundoff_limit:g}); see engines.plan.ROUNDOFF_LIMIT")
+                if where == "impact":  # the study's grid: not this case's request
+                    plan.skipped.append({**skip, "reason": reason})
+                    continue
+                raise PlanError(case.path, where, f"{pair.geometry}, {what}: {reason}")
+            allowed[pair.geometry].append(v)
+    if not any(allowed.values()):
+        field_name = "impact.velocity" if case.velocities else "impact.K" if case.K else "impact"
+        reasons = "; ".join(f"{s['geometry']} K = {s['K']:.3g}: {s['reason']}" for s in plan.skipped)
+        raise PlanError(case.path, field_name, f"nothing to run: every velocity is left out ({reasons})")
     for engine in engines:
         for pair in case.pairs:
             for law in laws:

@@ -1,0 +1,72 @@
+"""Planning refuses, before any engine starts, a case the engines cannot run honestly."""
+
+import math
+from pathlib import Path
+
+import pytest
+
+from contact_model import CaseError, load_case
+from engines.plan import ROUNDOFF_LIMIT, PlanError, plan_runs, roundoff_error
+from engines.run_spec import RunSpec
+
+STEEL = """name: s
+effective_modulus: 109 GPa
+radius: 0.635 cm
+viscosity: 6.7e5 P
+density: 7800 kg/m^3
+"""
+
+
+def plan(tmp_path, impact, text=STEEL):
+    path = tmp_path / "case.yaml"
+    path.write_text(text + impact + "\n")
+    return path, lambda: plan_runs(load_case(path), ["lammps"], laws=["viscoelastic"])
+
+
+@pytest.mark.parametrize("impact, field, words", [
+    ("impact: {velocity: [1 m/s, 1e-12 m/s]}", "impact.velocity[1]", "double-precision positions"),
+    ("impact: {K: [10]}", "impact.K", "nothing to run"),
+    ("impact: {velocity: [1e5 m/s]}", "impact.velocity", "nothing to run"),
+    ("impact: {velocity: [1e200 m/s]}", "impact.velocity[0]", "overflow"),
+])
+def test_unrunnable_cases_are_refused_when_planned(tmp_path, impact, field, words):
+    path, run = plan(tmp_path, impact)
+    with pytest.raises(PlanError) as err:
+        run()
+    assert isinstance(err.value, CaseError) and err.value.field == field
+    assert str(path) in str(err.value) and words in str(err.value)
+
+
+def test_extreme_moduli_are_refused_not_crashed(tmp_path):
+    path, run = plan(tmp_path, "impact: {K: [0.1]}", STEEL.replace("109 GPa", "1e-300 Pa"))
+    with pytest.raises(PlanError) as err:
+        run()
+    assert err.value.field == "impact.K[0]" and str(path) in str(err.value)
+
+
+def test_elastic_case_needs_velocities(tmp_path):
+    path, run = plan(tmp_path, "", STEEL.replace("6.7e5 P", "0 P"))
+    with pytest.raises(PlanError) as err:
+        run()
+    assert err.value.field == "impact" and "elastic" in str(err.value)
+
+
+def test_roundoff_estimate_matches_the_measured_miss():
+    """Steel, sphere-plane, 1e-12 m/s: all engines missed T by 7e-3; the estimate gives ~6.7e-3."""
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "steel.yaml")
+    spec = RunSpec("steel", "lammps", "viscoelastic", case.pair("sphere-plane"), 1e-12)
+    assert 5e-3 < roundoff_error(spec) < 9e-3
+    at_1_m_s = RunSpec("steel", "lammps", "viscoelastic", case.pair("sphere-plane"), 1.0)
+    assert roundoff_error(at_1_m_s) < ROUNDOFF_LIMIT / 1000
+
+
+def test_shipped_cases_plan_and_the_study_grid_skips_what_cannot_be_resolved():
+    folder = Path(__file__).resolve().parents[1] / "cases"
+    for path in sorted(folder.glob("*.yaml")):
+        p = plan_runs(load_case(path), ["lammps"], laws=["viscoelastic"])
+        assert p.runs, path
+        for skipped in p.skipped:
+            assert "R*" in skipped["reason"] and math.isfinite(skipped["V"])
+    cork = plan_runs(load_case(folder / "cork.yaml"), ["lammps"], laws=["viscoelastic"])
+    assert [round(s["K"], 6) for s in cork.skipped] == [0.01, 0.01]
+    assert all("double-precision" in s["reason"] for s in cork.skipped)
