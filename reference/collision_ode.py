@@ -177,7 +177,7 @@ def solve_collisions(K, *, batch: int = BATCH, allow_negative: bool = False) -> 
     Examples
     --------
     >>> t = solve_collisions([0.1, 1.0])
-    >>> [round(e, 12) for e in t.eps_x0]
+    >>> [round(float(e), 12) for e in t.eps_x0]
     [0.904885783492, 0.380838630487]
     """
     K = np.atleast_1d(np.asarray(K, dtype=float))
