@@ -36,6 +36,8 @@ $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
+	@# Compile the reference solver's numba kernel once here (cache=True), not in every first job.
+	$(PY) -c 'from reference import solve_collision; solve_collision(0.1)'
 	touch $@
 
 clean:
