@@ -116,3 +116,30 @@ def test_dump_round_trip_and_errors(tmp_path):
     other.write_text("time,overlap\n1,2\n")
     with pytest.raises(DumpError, match="not a hertz-dem-dump"):
         read_dump(other)
+
+
+def test_clipped_zero_falls_back_to_linear_extrapolation_then_to_the_next_sample():
+    """Branches of the F0 time of a clipped force that no engine run reaches (coverage showed it):
+    a quadratic with no zero before the clipped sample, then no decrease at all."""
+    from postprocess.collision_metrics import _extrapolated_zero
+
+    t = np.array([0.0, 1.0, 2.0])
+    # Three falling samples on a convex parabola with no real zero; the last two fall with slope -0.25.
+    y = np.array([3.0, 2.5, 2.25])
+    assert _extrapolated_zero(t, y, 20.0) == pytest.approx(2.0 + 2.25 / 0.25)
+    assert _extrapolated_zero(t, y, 5.0) == 5.0  # never past the clipped sample
+    assert _extrapolated_zero(t, np.array([1.0, 1.0, 1.0]), 3.0) == 3.0  # flat: the clipped sample
+    # A genuine quadratic zero inside the interval: y = 4 - t^2 crosses at t = 2 (t0 = 1).
+    assert _extrapolated_zero(np.array([-1.0, 0.0, 1.0]), 4 - np.array([-1.0, 0.0, 1.0]) ** 2, 3.0) == \
+        pytest.approx(2.0)
+
+
+def test_parabola_vertex_at_the_ends_and_on_a_flat_or_convex_top():
+    from postprocess.collision_metrics import _parabola_vertex
+
+    t = np.array([0.0, 1.0, 2.0])
+    assert _parabola_vertex(t, np.array([3.0, 2.0, 1.0]), 0) == (0.0, 3.0)
+    assert _parabola_vertex(t, np.array([1.0, 2.0, 3.0]), 2) == (2.0, 3.0)
+    assert _parabola_vertex(t, np.array([2.0, 2.0, 2.0]), 1) == (1.0, 2.0)  # c = 0: no vertex to find
+    tv, yv = _parabola_vertex(t, np.array([0.0, 1.0, 0.5]), 1)  # -0.75 t^2 + 1.75 t
+    assert tv == pytest.approx(1.75 / 1.5) and yv == pytest.approx(1.75**2 / 3)
