@@ -105,7 +105,7 @@ def test_two_case_files_claiming_one_name_are_refused(project):
 
 
 def test_numbers_given_through_config_inside_lists_and_mappings_are_numbers(project):
-    ok = snakemake("-n", "all", "--config", "tolerance={T: 1e-6, A: 2.5E-4, eps: 5e-4}", "K_grid=[1e-2,0.1]",
+    ok = snakemake("-n", "all", "--config", "tolerance={T: 1e-6, A: 2.5E-4, eps: 5e-4}", "K_grid=[1e-2,0.1]", "extras=[]",
                    cwd=project)
     assert ok.returncode == 0, ok.stdout + ok.stderr
     bad = snakemake("-n", "all", "--config", "tolerance={T: 1e-6 s, A: 1e-4, eps: 5e-4}", cwd=project)
