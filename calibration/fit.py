@@ -203,15 +203,16 @@ def fit_restitution(velocity, restitution, sigma=None, *, criterion: str = "x0",
     result = optimize.least_squares(residuals, [_initial_k(V, eps, V_ref, K_max)], bounds=([0.0], [K_max]),
                                     method="trf", x_scale=[0.1], xtol=1e-10, ftol=1e-12, gtol=1e-12)
     k = float(result.x[0])
-    # At a bound least_squares reports it in active_mask; also catch a k that merely sits there.
-    if result.active_mask[0] < 0 or k <= 1e-9 * K_max:
+    S_min = S(k)
+    # The solver stops near, not on, a bound: the best k lies outside (0, K_max) when a bound
+    # fits as well as the point found.
+    if result.active_mask[0] < 0 or S(0.0) <= S_min:
         raise CalibrationError(source, where, "the best fit has no dissipation (K = 0, V_D infinite): eps does not "
                                               "fall with the velocity the way the viscoelastic model needs; no "
                                               "viscosity can be given")
-    if result.active_mask[0] > 0 or k >= K_max * (1 - 1e-9):
+    if result.active_mask[0] > 0 or S(K_max) <= S_min:
         raise CalibrationError(source, where, f"the best fit needs K > {K_max:g} at {V_ref:g} m/s, beyond the range "
                                               "the model covers: the data cannot be fitted; no viscosity is given")
-    S_min = S(k)
     dof = n - 1
     if sigma is None:
         s2 = S_min / dof
