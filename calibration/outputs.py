@@ -11,6 +11,7 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.ticker  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
@@ -67,6 +68,7 @@ def plot_fit(case: Case, fits: dict[str, Fit], path, loop: pd.DataFrame | None =
             ax.plot(g.V, g.eps_dem, "x", color=styles[criterion][0], ms=9, mew=2,
                     label=f"{g.engine.iloc[0]} run with the {criterion} fit")
     ax.set_xscale("log")
+    axr.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # log minor labels overlap
     ax.set_ylabel("restitution coefficient eps")
     ax.set_title(f"{case.name}: eps(V), fits of eta")
     ax.legend(fontsize=8)
