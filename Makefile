@@ -20,6 +20,7 @@ test: engines venv
 bench: engines venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
 	$(PY) -m benchmarks.study
+	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.calibration_coverage
 
 # The DEM engines come from Debian's packages; skip apt when they are already there.
 engines:

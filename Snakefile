@@ -3,6 +3,7 @@
     snakemake -j2 all                 every case, every engine, the report, the verdict and the gate
     snakemake -j2 steel               one case (its file name in cases/ without .yaml) and its own gate
     snakemake -j2 results/steel/summary.csv
+    snakemake -j2 calibration         eta fitted to every case with measurements (results/calibration/)
 
 Settings: config/config.yaml (validated against config/config.schema.yaml). Logs: logs/,
 benchmarks: benchmarks/<case>/<engine>.tsv, results: results/. The rules live in
@@ -70,13 +71,15 @@ include: "workflow/rules/verdict.smk"
 include: "workflow/rules/reference.smk"
 include: "workflow/rules/convergence.smk"
 include: "workflow/rules/paper.smk"
+include: "workflow/rules/calibration.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used.
-localrules: all, plan, summary, reference_table, series, report, gate, case_verdict, case_gate
+localrules: all, plan, summary, reference_table, series, report, gate, case_verdict, case_gate, calibration, calibration_report
 
 wildcard_constraints:
     case="|".join(map(re.escape, CASES)),
     engine="|".join(map(re.escape, ENGINES)),
+    cal_case="|".join(map(re.escape, CALIBRATION_CASES)) or "(?!)",
 
 # One target per case, named as its file: `snakemake -j2 steel` runs the case and its gate.
 check_case_names(CASES, {r.name for r in workflow.rules})

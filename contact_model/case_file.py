@@ -12,6 +12,13 @@ Both need ``viscosity`` (the effective eta). An optional ``impact`` block gives 
 target dissipation parameters) or ``velocity`` (a list of impact velocities); without it the
 study's K grid (config/config.yaml) applies.
 
+An optional ``measurements`` key names a CSV file of measured restitution coefficients
+(`contact_model.measurement_file`), its path relative to the folder of the case file (so that a
+case and its data move together and the path does not depend on the working directory). The file
+is read and checked when the case is loaded. A case with measurements describes exactly one
+contact (one geometry, or explicit bodies): the data belong to one pair. For such a case
+``viscosity`` is the starting value only; the calibration fits it.
+
 The file is read strictly, so that it cannot say one thing and run another:
 
 - a quantity is exactly one plain number, one space and a unit ("109 GPa", "6.7e5 P",
@@ -89,6 +96,7 @@ class Case:
     velocities: tuple[float, ...] = ()
     description: str = ""
     extra: dict = field(default_factory=dict)
+    measurements: object = None  # a measurement_file.Measurements, or None
 
     def pair(self, geometry: str) -> ContactPair:
         for p in self.pairs:
@@ -440,10 +448,33 @@ def parse_case(data, path) -> Case:
     K, velocities = _impact(data, path)
     if K and eta == 0:
         raise CaseError(path, "impact.K", "a target K needs a positive viscosity")
+    measurements = _measurements(data, pairs, path)
     known = {"name", "description", "viscosity", "bodies", "effective_modulus", "radius",
-             "density", "geometries", "impact"}
+             "density", "geometries", "impact", "measurements"}
     extra = {k: v for k, v in data.items() if k not in known}  # the documentation keys
-    return Case(str(name), str(path), pairs, K, velocities, str(data.get("description", "")), extra)
+    return Case(str(name), str(path), pairs, K, velocities, str(data.get("description", "")), extra,
+                measurements)
+
+
+def _measurements(data: dict, pairs, path):
+    """The case's measurement file, read (its path relative to the case file's folder), or None."""
+    if "measurements" not in data:
+        return None
+    from .measurement_file import load_measurements  # it imports this module
+
+    if len(pairs) != 1:
+        raise CaseError(path, "measurements", f"measurements belong to one contact, but the case describes "
+                                              f"{len(pairs)} ({', '.join(p.geometry for p in pairs)}): give one "
+                                              "geometry (e.g. geometries: [sphere-plane]) or explicit bodies")
+    relative = Path(data["measurements"])
+    if relative.is_absolute():
+        raise CaseError(path, "measurements", f"{data['measurements']!r} is an absolute path: give it relative to "
+                                              "the case file's folder, so that the project can move")
+    csv_path = Path(str(path)).parent / relative
+    if not csv_path.is_file():
+        raise CaseError(path, "measurements", f"no file {str(csv_path)!r} (the path is relative to the case "
+                                              "file's folder)")
+    return load_measurements(csv_path)
 
 
 def load_case(path) -> Case:

@@ -1,0 +1,94 @@
+# Calibrating eta from measured restitution: `snakemake -j2 calibration` (results/calibration/).
+# Not part of `all`: it fits measured cases, it does not validate the engines.
+
+
+def calibration_cases():
+    """{name: file} of the case files in config calibration.cases that have `measurements:`."""
+    files = sorted({f for p in config["calibration"]["cases"] for f in glob.glob(p)})
+    found = {}
+    for f in files:
+        case = load_case(f)  # a malformed case or measurement file stops here, named
+        if case.measurements is not None:
+            if not CASE_NAME.fullmatch(Path(f).stem) or Path(f).stem in found:
+                raise ValueError(f"{f}: a calibrated case needs a unique file name of letters, digits and underscores")
+            found[Path(f).stem] = f
+    return found
+
+
+CALIBRATION_CASES = calibration_cases()
+CALIBRATION = config["calibration"]
+
+
+rule calibration:
+    """Every measured case fitted, checked in an engine, and the report (results/calibration/report.md)."""
+    input: "results/calibration/report.md"
+
+
+rule calibration_fit:
+    """Exact (x0, F0) and series fits of eta, intervals, residuals, engine parameters, plot."""
+    input:
+        case=lambda w: CALIBRATION_CASES[w.cal_case],
+        data=lambda w: load_case(CALIBRATION_CASES[w.cal_case]).measurements.path,
+    output:
+        fit="results/calibration/{cal_case}/fit.json",
+        residuals="results/calibration/{cal_case}/residuals.csv",
+        engine_parameters="results/calibration/{cal_case}/engine_parameters.csv",
+        png="results/calibration/{cal_case}/fit.png",
+    log: "logs/calibration/{cal_case}/fit.log"
+    params: modulus_factors=CALIBRATION["modulus_factors"]
+    script: "../scripts/calibration_fit.py"
+
+
+rule calibration_dem:
+    """Closing the loop: the calibrated parameters in one engine at the measured velocities."""
+    input:
+        case=lambda w: CALIBRATION_CASES[w.cal_case],
+        fit="results/calibration/{cal_case}/fit.json",
+        decks=DECKS[CALIBRATION["engine"]],
+    output:
+        manifest="results/calibration/{cal_case}/dem/manifest.json",
+        runs=directory("results/calibration/{cal_case}/dem/runs"),
+    log: "logs/calibration/{cal_case}/dem.log"
+    params: engine=CALIBRATION["engine"], time_step_factor=CALIBRATION["time_step_factor"],
+            timeout_floor_s=config["engine_timeout_floor_s"]
+    threads: 1
+    resources: runtime=30, mem_mb=2000
+    script: "../scripts/calibration_dem.py"
+
+
+rule calibration_loop:
+    """DEM eps beside the fitted model and the data; the fit plot with the DEM points."""
+    input:
+        case=lambda w: CALIBRATION_CASES[w.cal_case],
+        fit="results/calibration/{cal_case}/fit.json",
+        residuals="results/calibration/{cal_case}/residuals.csv",
+        manifest="results/calibration/{cal_case}/dem/manifest.json",
+        runs="results/calibration/{cal_case}/dem/runs",
+    output:
+        csv="results/calibration/{cal_case}/loop.csv",
+        png="results/calibration/{cal_case}/fit_with_dem.png",
+    log: "logs/calibration/{cal_case}/loop.log"
+    script: "../scripts/calibration_loop.py"
+
+
+rule closed_forms:
+    """The literature's eps(K) against the solver, and the bias each causes in a fitted eta."""
+    output:
+        errors="results/calibration/closed_forms.csv",
+        bias="results/calibration/closed_form_bias.csv",
+    log: "logs/calibration/closed_forms.log"
+    params: settings=CALIBRATION["closed_forms"]
+    script: "../scripts/closed_forms.py"
+
+
+rule calibration_report:
+    """results/calibration/report.md: one section per measured case, then the closed forms."""
+    input:
+        fits=expand("results/calibration/{cal_case}/fit.json", cal_case=CALIBRATION_CASES),
+        residuals=expand("results/calibration/{cal_case}/residuals.csv", cal_case=CALIBRATION_CASES),
+        loops=expand("results/calibration/{cal_case}/loop.csv", cal_case=CALIBRATION_CASES),
+        errors="results/calibration/closed_forms.csv",
+        bias="results/calibration/closed_form_bias.csv",
+    output: "results/calibration/report.md"
+    log: "logs/calibration/report.log"
+    script: "../scripts/calibration_report.py"
