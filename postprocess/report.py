@@ -9,6 +9,7 @@ paper's series are compared, not gated: where they depart from the reference, th
 
 from __future__ import annotations
 
+import re
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -175,12 +176,14 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                  series_cmp: pd.DataFrame | None = None, timing: dict | None = None, not_run: list[dict] = (),
                  failed_runs: list[dict] = (), convergence: pd.DataFrame | None = None,
                  lammps_wall: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
-                 table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None) -> None:
+                 table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None,
+                 calibration: str | None = None) -> None:
     """Write report.md, report.html and the plots into out_dir.
 
     checks, verdict: from `postprocess.gate` (the report shows them; it decides nothing);
     not_run: velocities the plan left out, with the reason; failed_runs: runs the engine did not
-    complete (of every law: gated ones also fail their checks).
+    complete (of every law: gated ones also fail their checks); calibration: the text of
+    results/calibration/report.md, included as a section.
     """
     out_dir = Path(out_dir)
     plots = out_dir / "plots"
@@ -263,6 +266,8 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                   _md_table(lammps_wall, ".4g"), ""]
     if claims is not None:
         lines += _paper_section(claims, table1, energy_check)
+    if calibration is not None:
+        lines += _calibration_section(calibration)
     if has_rows:
         lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, series_cmp)] + [""]
     if timing:
@@ -270,6 +275,14 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     text = "\n".join(lines)
     write_atomically(out_dir / "report.md", text)
     _write_html(text, out_dir / "report.html")
+
+
+def _calibration_section(markdown_text: str, folder: str = "calibration") -> list[str]:
+    """results/calibration/report.md one heading level down, its relative links pointing into
+    `folder` (the report sits one level above it)."""
+    text = re.sub(r"^(#+) ", r"#\1 ", markdown_text, flags=re.M)
+    text = re.sub(r"\]\((?!https?:|/|#)([^)]+)\)", rf"]({folder}/\1)", text)
+    return text.rstrip().splitlines() + [""]
 
 
 def _convergence_section(orders: pd.DataFrame) -> list[str]:

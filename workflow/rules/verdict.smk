@@ -15,6 +15,7 @@ EXTRA_REPORT_INPUTS = {
         "energy_check": "results/paper/fig4_energy.csv",
         **{f"figure_{n}": f"results/paper/{name}.png" for n, name in PAPER_FIGURES.items()}}
        if "paper" in EXTRAS else {}),
+    **({"calibration": "results/calibration/report.md"} if "calibration" in EXTRAS else {}),
     **({"lammps_wall": "results/lammps/wall_modulus.csv"}
        if "lammps_wall_modulus" in EXTRAS and "lammps" in ENGINES else {}),
 }

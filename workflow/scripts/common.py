@@ -19,17 +19,18 @@ def log_to(path):
     return logging.getLogger("study")
 
 
-def start_rule(smk, results_dir="results"):
-    """log_to(the rule's log), after removing the verdict files of the study (`results_dir`) and,
-    for a rule of one case, of that case (`results_dir/<case>`).
+def start_rule(smk, *also, results_dir="results"):
+    """log_to(the rule's log), after removing the verdict files of the study (`results_dir`), of
+    the rule's case (`results_dir/<case>`, for a rule with a case wildcard) and of the folders
+    `also` (e.g. results/calibration, whose report the study's report includes).
 
     Every rule that writes results calls this first: a rerun that then fails or is killed leaves
-    no PASS (or FAIL) beside results that it was not computed from. The report and case_verdict
-    rules write the verdicts anew from the finished results.
+    no PASS (or FAIL), and no report, beside results that it was not computed from. The report,
+    case_verdict and calibration_report rules write them anew from the finished results.
     """
     log = log_to(smk.log[0])
     case = dict(smk.wildcards.items()).get("case")
-    for folder in [results_dir] + ([f"{results_dir}/{case}"] if case else []):
+    for folder in [results_dir, *([f"{results_dir}/{case}"] if case else []), *also]:
         for path in withdraw_verdict(folder):
             log.info("withdrew %s: results are about to change", path)
     return log

@@ -30,6 +30,8 @@ not_run = [row for p in plans for row in p["not_run"]]
 optional = {key: pd.read_csv(snakemake.input[key])
             for key in ("convergence", "lammps_wall", "claims", "table1", "energy_check")
             if key in snakemake.input.keys()}
+if "calibration" in snakemake.input.keys():
+    optional["calibration"] = Path(snakemake.input.calibration).read_text()
 out = Path(snakemake.output.md).parent
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.6g")
 write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, **optional)
