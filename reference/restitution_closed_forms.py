@@ -14,19 +14,21 @@ The forms
     Chebyshev interpolation of the solver around K = 0).
 ``ramirez_1999`` (x0)
     R. Ramirez, T. Poeschel, N. V. Brilliantov and T. Schwager, "Coefficient of restitution of
-    colliding viscoelastic spheres", Phys. Rev. E 60, 4465 (1999):
+    colliding viscoelastic spheres", Phys. Rev. E 60, 4465 (1999), arXiv:cond-mat/9905382:
     eps = 1 - C_1 (K/k_0) + C_2 (K/k_0)^2 + ..., C_1 = 1.153449, C_2 = 0.79826; the terms beyond
     the second order are not used here.
 ``muller_poschel_2011`` (F0)
-    P. Mueller and T. Poeschel, "Coefficient of restitution of viscoelastic spheres: the effect
-    of delayed recovery", Phys. Rev. E 84, 021302 (2011), the [1/4] Pade approximant in v*::
+    P. Mueller and T. Poeschel, "Collision of viscoelastic spheres: compact expressions for the
+    coefficient of normal restitution", Phys. Rev. E 84, 021302 (2011), arXiv:1102.5247, the
+    [1/4] Pade approximant in v*::
 
         eps = (1 + 0.501086 v*) / (1 + 0.501086 v* + 1.15345 v*^2 + 0.577977 v*^3 + 0.532178 v*^4).
 
     It assumes that the bodies separate when the force vanishes (F0).
 
 The numbers of Ramirez et al. and of Mueller & Poeschel are taken from the quotation of the two
-papers in the project's issue 12 (the papers themselves could not be reached from this project);
+papers in the project's issue 12: the project's search reached the papers' abstracts (titles,
+journal references and arXiv numbers above), not their tables of coefficients;
 the tests check them against the reference solver and against each other, which they pass to
 the printed precision.
 
