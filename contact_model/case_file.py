@@ -36,18 +36,25 @@ Every error is a `CaseError` naming the file and the field.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import jsonschema
-import pint
 import yaml
 
 from .contact_pair import GEOMETRIES, Body, ContactPair
 
-UNITS = pint.UnitRegistry()
+
+
+@functools.lru_cache(maxsize=None)
+def units():
+    """pint's unit registry, built on first use: building it (and importing pint) takes about
+    half a second, which every workflow rule that merely imports contact_model would pay."""
+    import pint
+
+    return pint.UnitRegistry()
 SCHEMA_PATH = Path(__file__).with_name("case_file.schema.yaml")
 
 # field -> (pint dimensionality, SI unit)
@@ -144,8 +151,8 @@ def quantity(value, name: str, path) -> float:
     if x == 0 and any(c in "123456789" for c in re.split("[eE]", number)[0]):
         raise CaseError(path, name, f"the number {number} in {value!r} underflows to 0 in double precision")
     try:  # pint parses user text: any of its exceptions means the unit cannot be read
-        unit = UNITS.parse_units(unit_text)
-        factors = [UNITS.Unit(u) for u in unit._units]
+        unit = units().parse_units(unit_text)
+        factors = [units().Unit(u) for u in unit._units]
     except Exception as err:  # noqa: BLE001
         raise CaseError(path, name, f"cannot read the unit {unit_text!r} of {value!r} ({type(err).__name__}: {err})")
     plain = [str(f) for f in factors if f.dimensionless]
@@ -154,7 +161,7 @@ def quantity(value, name: str, path) -> float:
     if unit.dimensionless:
         raise CaseError(path, name, f"{value!r} has no unit; expected a {dimension} such as '{si_unit}'")
     try:
-        q = UNITS.Quantity(x, unit)
+        q = units().Quantity(x, unit)
         if not q.check(dimension):
             raise CaseError(path, name, f"{value!r} is a {q.dimensionality}, expected a {dimension} (e.g. {si_unit})")
         si = float(q.to(si_unit).magnitude)
@@ -306,6 +313,8 @@ def _validator():
     global _SCHEMA
     if _SCHEMA is None:
         schema = yaml.safe_load(SCHEMA_PATH.read_text(encoding="utf-8"))
+        import jsonschema  # here: only reading a case file needs it
+
         jsonschema.Draft202012Validator.check_schema(schema)
         _SCHEMA = jsonschema.Draft202012Validator(schema)
     return _SCHEMA

@@ -15,22 +15,19 @@ file or the new one, never half of one.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
-import os
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from engines.run_spec import GATED_LAWS
 
+from .verdict_files import write_atomically
+
 GATED_QUANTITIES = ("T", "A", "eps")
 GROUP = ["engine", "law", "geometry", "criterion"]
-#: The files that carry a verdict; any rule that changes results withdraws them first.
-VERDICT_FILES = ("gate.txt", "verdict.json", "junit.xml", "report.md", "report.html")
 
 
 def planned_groups(plan_runs: pd.DataFrame) -> pd.DataFrame:
@@ -168,16 +165,6 @@ def junit_xml(checks: pd.DataFrame, suite: str = "hertz-dem-gate") -> ET.Element
     return ET.ElementTree(suites)
 
 
-def write_atomically(path, data: bytes | str) -> None:
-    """Write `path` so that it appears only complete (a temporary file, then os.replace)."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.part")
-    if isinstance(data, str):
-        data = data.encode()
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
-
-
 def write_junit(checks: pd.DataFrame, path) -> None:
     tree = junit_xml(checks)
     import io
@@ -189,22 +176,3 @@ def write_junit(checks: pd.DataFrame, path) -> None:
 
 def write_verdict(verdict: dict, path) -> None:
     write_atomically(path, json.dumps(verdict, indent=1) + "\n")
-
-
-def file_sha256(path) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-
-
-def withdraw_verdict(results_dir="results") -> list[str]:
-    """Remove every file that carries a verdict from `results_dir` (the names removed).
-
-    Called first by every rule that changes results: a rerun that fails or is interrupted
-    then leaves no verdict beside results it does not describe.
-    """
-    removed = []
-    for name in VERDICT_FILES:
-        p = Path(results_dir) / name
-        if p.exists():
-            p.unlink()
-            removed.append(str(p))
-    return removed

@@ -23,7 +23,8 @@ import pandas as pd  # noqa: E402
 from engines import GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 
-from .gate import GATED_QUANTITIES, check_name, write_atomically  # noqa: E402
+from .gate import GATED_QUANTITIES  # noqa: E402
+from .verdict_files import write_atomically  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
          "Q1": ("Q1/Q1e", "Q1e"), "Q2": ("Q2/Q2e", "Q2e")}
@@ -189,7 +190,6 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     plots = out_dir / "plots"
     plots.mkdir(parents=True, exist_ok=True)
     tolerance = verdict["tolerance"]
-    failing = checks[~checks["pass"]]
     has_rows = len(table) > 0
     K_max = max(0.5, float(table.K.max()) * 1.05) if has_rows else 0.5
     if has_rows:

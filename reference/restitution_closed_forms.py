@@ -58,9 +58,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: k_0 = (5/4)^{3/5}: K / k_0 = v*^2 (Ramirez et al. 1999; Mueller & Poeschel 2011).
 K0 = 1.25**0.6
@@ -139,7 +142,7 @@ CLOSED_FORMS = {
 K_INTERVALS = (0.1, 0.5, 1.0, 5.0)
 
 
-def closed_form_errors(K_intervals=K_INTERVALS, points: int = 501) -> "pd.DataFrame":
+def closed_form_errors(K_intervals=K_INTERVALS, points: int = 501) -> pd.DataFrame:
     """Largest |eps_form - eps_ref| and the largest relative error on each [0, K_max], under the
     criterion each form assumes; where on the interval. A tidy table: form, criterion, K_max,
     max_abs_error, K_at_max, max_rel_error."""

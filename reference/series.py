@@ -22,10 +22,13 @@ the x^{1/2}-singular tail), so F0 quantities have half-integer powers from order
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 from numpy.polynomial import chebyshev
+
+if TYPE_CHECKING:  # pandas is imported where a table is made: `import reference` stays light
+    import pandas as pd
 
 from .closed_forms import HERTZ_TAU
 from .collision_ode import CollisionTable, solve_collisions
@@ -56,6 +59,8 @@ def hertz_ratios(table: CollisionTable, criterion: str) -> dict[str, np.ndarray]
 
 def load_paper_series(path: Path = PAPER_SERIES_FILE) -> pd.DataFrame:
     """The paper's series coefficients: columns quantity, order, coefficient, equation, note."""
+    import pandas as pd  # here, not at import: most users of `reference` never read the table
+
     return pd.read_csv(path, comment="#", dtype={"equation": str}).fillna({"note": ""})
 
 
@@ -94,6 +99,8 @@ def taylor_coefficients(order: int = 6, radius: float = 0.3, degree: int = 22) -
          "uncertainty": abs(first[q][n] - second[q][n])}
         for q in QUANTITIES for n in range(order + 1)
     ]
+    import pandas as pd
+
     return pd.DataFrame(rows)
 
 

@@ -11,8 +11,8 @@ import xml.etree.ElementTree as ET
 import pandas as pd
 import pytest
 
-from postprocess.gate import (VERDICT_FILES, gate_checks, junit_xml, verdict_of, withdraw_verdict, write_junit,
-                              write_verdict)
+from postprocess.gate import gate_checks, junit_xml, verdict_of, write_junit, write_verdict
+from postprocess.verdict_files import VERDICT_FILES, withdraw_verdict
 from postprocess.report import write_report
 
 TOL = {"T": 5e-4, "A": 5e-4, "eps": 5e-4}

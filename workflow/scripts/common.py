@@ -4,7 +4,7 @@ study's verdict before a rule changes any result."""
 import logging
 import sys
 
-from postprocess.gate import withdraw_verdict
+from postprocess.verdict_files import withdraw_verdict
 
 
 def log_to(path):

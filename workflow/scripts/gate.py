@@ -8,7 +8,7 @@ import json
 import sys
 
 from common import log_to
-from postprocess.gate import file_sha256, write_atomically
+from postprocess.verdict_files import file_sha256, write_atomically
 
 log = log_to(snakemake.log[0])
 verdict = json.load(open(snakemake.input.verdict))

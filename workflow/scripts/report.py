@@ -10,7 +10,8 @@ from pathlib import Path
 import pandas as pd
 
 from common import start_rule
-from postprocess.gate import file_sha256, gate_checks, verdict_of, write_junit, write_verdict
+from postprocess.gate import gate_checks, verdict_of, write_junit, write_verdict
+from postprocess.verdict_files import file_sha256
 from postprocess.report import write_report
 from postprocess.run_manifest import read_manifest
 
