@@ -31,7 +31,7 @@ import math
 from dataclasses import dataclass, field
 
 from contact_model import Case, CaseError
-from reference import solve_collision
+from reference import solve_collision, solve_collisions
 
 from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, LAWS, RunSpec
 
@@ -163,15 +163,50 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
         field_name = "impact.velocity" if case.velocities else "impact.K" if case.K else "impact"
         reasons = "; ".join(f"{s['geometry']} K = {s['K']:.3g}: {s['reason']}" for s in plan.skipped)
         raise PlanError(case.path, field_name, f"nothing to run: every velocity is left out ({reasons})")
+    # The reference solution of every K of the case, in one batch: the runs carry their row
+    # (RunSpec.reference), and plan.json hands it on to the engine jobs and the summary.
+    keys = [(pair.geometry, v) for pair in case.pairs for v in allowed[pair.geometry]]
+    Ks = [case.pair(g).dissipation_parameter(v) for g, v in keys]
+    reference = dict(zip(keys, solve_collisions(Ks).rows()))
+    matched = {engine: matched_restitution(engine, match_K) for engine in engines} if "default" in laws else {}
     for engine in engines:
         for pair in case.pairs:
             for law in laws:
                 if law != "viscoelastic" and pair.eta == 0:
                     continue  # an elastic contact never pulls (nothing to clip) and has no restitution to match
-                e = matched_restitution(engine, match_K) if law == "default" else None
-                plan.runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e)
-                              for v in allowed[pair.geometry]]
+                e = matched[engine] if law == "default" else None
+                plan.runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e,
+                                      reference=reference[(pair.geometry, v)]) for v in allowed[pair.geometry]]
     return plan
+
+
+def plan_listing(case: Case, plan: Plan) -> dict:
+    """The plan as plain data (plan.json): every run with what it needs and its reference row."""
+    return {"case": case.name, "file": case.path,
+            "runs": [{"name": r.name, "engine": r.engine, "law": r.law, "geometry": r.pair.geometry,
+                      "represents": list(r.represents), "velocity": r.velocity, "K": r.K,
+                      "time_step_factor": r.time_step_factor, "time_step": r.time_step, "steps": r.steps(),
+                      "matched_restitution": r.matched_restitution, "reference": r.reference}
+                     for r in plan.runs],
+            "not_run": plan.skipped}
+
+
+def runs_from_listing(case: Case, listing: dict, engine: str) -> list[RunSpec]:
+    """The runs of `engine` in a plan listing (plan_listing), rebuilt with their reference rows,
+    so that no later rule solves the ODE again. A listing that does not match the case (a run
+    whose name comes out different) is an error: the plan is stale."""
+    runs = []
+    for entry in listing["runs"]:
+        if entry["engine"] != engine:
+            continue
+        spec = RunSpec(case.name, engine, entry["law"], case.pair(entry["geometry"]), entry["velocity"],
+                       entry["time_step_factor"], matched_restitution=entry["matched_restitution"],
+                       reference=entry["reference"])
+        if spec.name != entry["name"]:
+            raise ValueError(f"{case.path}: the plan lists run {entry['name']!r} but the case gives {spec.name!r}; "
+                             "the plan is stale: rerun the study")
+        runs.append(spec)
+    return runs
 
 
 def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, velocity: float,

@@ -20,7 +20,7 @@ Contact laws:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from contact_model import ContactPair
 from reference import HERTZ_TAU, solve_collision
@@ -50,6 +50,9 @@ class RunSpec:
     time_step_factor: float = 1000.0  # dt = T_e / factor
     matched_restitution: float | None = None  # for law 'default': the eps it is tuned to
     label: str = ""  # appended to the name, for runs that differ in something else
+    #: The reference solution at this run's K (a `reference.CollisionTable` row), solved once
+    #: for the whole case by the plan and handed on; None: solved here when needed.
+    reference: dict | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
         if self.engine not in ENGINES:
@@ -98,7 +101,10 @@ class RunSpec:
         """Steps to run: the approach, the contact (the reference x0 duration, with a margin
         for the engines' own errors and for the default laws), and some free flight."""
         K = min(self.K, 10.0)
-        tau_0 = solve_collision(K)["tau_0"] if K > 0 else HERTZ_TAU
+        if self.reference is not None and K == self.K:
+            tau_0 = self.reference["tau_0"]
+        else:
+            tau_0 = solve_collision(K)["tau_0"] if K > 0 else HERTZ_TAU
         contact_steps = 1.25 * tau_0 / HERTZ_TAU * self.time_step_factor
         return int(GAP_STEPS + math.ceil(contact_steps) + TAIL_STEPS)
 

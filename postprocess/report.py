@@ -42,11 +42,20 @@ def _ratio(table, q):
     return table[q] / (table[scale] if isinstance(scale, str) else scale)
 
 
-def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, K_max: float) -> None:
+def reference_curve(K_max: float, reference: pd.DataFrame | None = None):
+    """The reference solution on a K grid up to K_max: the study's reference table
+    (results/reference/collisions.csv, solved once by its own rule) where it reaches K_max,
+    solved here otherwise."""
+    if reference is not None and len(reference) and reference.K.max() >= K_max:
+        return reference[reference.K <= K_max].reset_index(drop=True)
+    return solve_collisions(np.linspace(0.0, K_max, 200))
+
+
+def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve) -> None:
     """eps, T/T_e, A/A_e, Q1/Q1e, Q2/Q2e against K: engines as markers, the reference solver
-    as a line, the paper's series dashed."""
-    K = np.linspace(0.0, K_max, 200)
-    ref = hertz_ratios(solve_collisions(K), criterion)
+    as a line (`curve`, see reference_curve), the paper's series dashed."""
+    K = np.asarray(curve.K)
+    ref = hertz_ratios(curve, criterion)
     runs = table[(table.criterion == criterion) & table.law.isin(GATED_LAWS)]
     fig, axes = plt.subplots(1, 5, figsize=(20, 4.2))
     for ax, q in zip(axes, RATIO):
@@ -90,15 +99,15 @@ def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path) -> None:
     plt.close(fig)
 
 
-def plot_default_laws(table: pd.DataFrame, path: Path, K_max: float) -> None:
+def plot_default_laws(table: pd.DataFrame, path: Path, curve) -> None:
     """The out-of-the-box laws against the viscoelastic reference: eps and T/T_e against K."""
     runs = table[table.law == "default"]
-    K = np.linspace(0.0, K_max, 200)
+    K = np.asarray(curve.K)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4))
     for ax, q in zip(axes, ("eps", "T", "A")):
         name = RATIO[q][0]
         for criterion, ls in (("x0", "-"), ("F0", "-.")):
-            ax.plot(K, hertz_ratios(solve_collisions(K), criterion)[name], "k", ls=ls, lw=1,
+            ax.plot(K, hertz_ratios(curve, criterion)[name], "k", ls=ls, lw=1,
                     label=f"viscoelastic reference, {criterion}")
         for (engine, geometry), marker in MARKERS.items():
             sel = runs[(runs.engine == engine) & (runs.geometry == geometry)]
@@ -178,13 +187,14 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                  failed_runs: list[dict] = (), convergence: pd.DataFrame | None = None,
                  lammps_wall: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
                  table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None,
-                 calibration: str | None = None) -> None:
+                 calibration: str | None = None, reference: pd.DataFrame | None = None) -> None:
     """Write report.md, report.html and the plots into out_dir.
 
     checks, verdict: from `postprocess.gate` (the report shows them; it decides nothing);
     not_run: velocities the plan left out, with the reason; failed_runs: runs the engine did not
     complete (of every law: gated ones also fail their checks); calibration: the text of
-    results/calibration/report.md, included as a section.
+    results/calibration/report.md, included as a section; reference: the reference table over a
+    K grid (results/reference/collisions.csv) for the curves of the plots.
     """
     out_dir = Path(out_dir)
     plots = out_dir / "plots"
@@ -192,12 +202,13 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     tolerance = verdict["tolerance"]
     has_rows = len(table) > 0
     K_max = max(0.5, float(table.K.max()) * 1.05) if has_rows else 0.5
+    curve = reference_curve(K_max, reference) if has_rows else None
     if has_rows:
-        plot_ratios(table, "x0", plots / "ratios_x0.png", K_max)
-        plot_ratios(table, "F0", plots / "ratios_F0.png", K_max)
+        plot_ratios(table, "x0", plots / "ratios_x0.png", curve)
+        plot_ratios(table, "F0", plots / "ratios_F0.png", curve)
         plot_errors(table, tolerance, plots / "errors.png")
     if has_rows and (table.law == "default").any():
-        plot_default_laws(table, plots / "default_laws.png", K_max)
+        plot_default_laws(table, plots / "default_laws.png", curve)
 
     lines = [
         "# Viscoelastic Hertz contact in DEM engines: comparison report", "",

@@ -31,6 +31,7 @@ rule run_engine:
 rule case_summary:
     """The case's runs beside the reference solver and the paper's series (dumps verified)."""
     input:
+        plan="results/{case}/plan.json",
         manifests=expand("results/{{case}}/{engine}/manifest.json", engine=ENGINES),
         runs=expand("results/{{case}}/{engine}/runs", engine=ENGINES),
     output: "results/{case}/summary.csv"

@@ -26,6 +26,7 @@ rule report:
     input:
         summary="results/summary.csv",
         series="results/reference/series.csv",
+        reference="results/reference/collisions.csv",
         manifests=expand("results/{case}/{engine}/manifest.json", case=CASES, engine=ENGINES),
         plans=expand("results/{case}/plan.json", case=CASES),
         **EXTRA_REPORT_INPUTS,

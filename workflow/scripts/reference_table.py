@@ -3,10 +3,10 @@
 import numpy as np
 import pandas as pd
 
-from common import log_to
+from common import start_rule
 from reference import solve_collisions
 
-log = log_to(snakemake.log[0])
+log = start_rule(snakemake)
 g = snakemake.params.grid
 K = np.linspace(g["start"], g["stop"], g["num"])
 table = pd.DataFrame(solve_collisions(K).rows())

@@ -33,6 +33,7 @@ optional = {key: pd.read_csv(snakemake.input[key])
             if key in snakemake.input.keys()}
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
+optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
 out = Path(snakemake.output.md).parent
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.6g")
 write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, **optional)

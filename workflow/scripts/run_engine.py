@@ -7,18 +7,19 @@ the gate, which names it, so that the study still writes its report and JUnit XM
 engine stops the rule at once (that is set-up, not a verdict).
 """
 
+import json
+
 from common import start_rule
 from contact_model import load_case
 from engines import GATED_LAWS, run_sweep
-from engines.plan import plan_runs
+from engines.plan import runs_from_listing
 from postprocess.run_manifest import write_manifest
 
 log = start_rule(snakemake)
 s = snakemake.params.settings
 engine = snakemake.wildcards.engine
 case = load_case(snakemake.input.case)
-runs = plan_runs(case, [engine], s["laws"], s["K_grid"], s["time_step_factor"], s["default_law_match_K"],
-                 s["max_overlap_ratio"]).runs
+runs = runs_from_listing(case, json.load(open(snakemake.input.plan)), engine)  # the plan's runs, solved there
 log.info("%s: %d %s runs into %s", case.name, len(runs), engine, snakemake.output.runs)
 sweep = run_sweep(engine, runs, snakemake.output.runs, timeout_floor_s=s["engine_timeout_floor_s"])
 law = {r.name: r.law for r in runs}
