@@ -14,7 +14,6 @@ import statistics
 import sys
 import time
 
-
 from calibration.fit import fit_restitution
 from calibration.synthetic import coverage, synthetic_sets
 
