@@ -110,3 +110,17 @@ def test_numbers_given_through_config_inside_lists_and_mappings_are_numbers(proj
     assert ok.returncode == 0, ok.stdout + ok.stderr
     bad = snakemake("-n", "all", "--config", "tolerance={T: 1e-6 s, A: 1e-4, eps: 5e-4}", cwd=project)
     assert bad.returncode != 0 and "tolerance" in bad.stdout + bad.stderr and "1e-6 s" in bad.stdout + bad.stderr
+
+
+@pytest.mark.parametrize("impact, field, said", [
+    ("impact:\n  velocity: [1.0e-12 m/s]\n", "impact.velocity[0]", "too small for double-precision positions"),
+    ("impact:\n  K: [9.5]\n", "impact.K", "nothing to run: every velocity is left out"),
+])
+def test_case_the_engines_cannot_run_honestly_is_refused_before_any_job(project, impact, field, said):
+    case = project / "cases" / "steel.yaml"
+    case.write_text(case.read_text() + impact)
+    out = snakemake("-j1", "all", "--config", "extras=[]", cwd=project)
+    told = out.stdout + out.stderr
+    assert out.returncode != 0
+    assert f"cases/steel.yaml: field '{field}': " in told and said in told, told[-2000:]
+    assert not (project / "results").exists()

@@ -26,11 +26,15 @@ def check_case_names(cases, rule_names):
 
 
 CASES = case_files()
-# Every case is validated here, before any job (let alone an engine) starts: a malformed case
-# stops the workflow with the file and the field named. Two files may not claim one case name.
+# Every case is validated and planned here, before any job (let alone an engine) starts: a
+# malformed case, or one the engines cannot run honestly (engines.plan), stops the workflow with
+# the file, the field and the reason. Two files may not claim one case name.
 _names = {}
 for _stem, _path in CASES.items():
-    _case_name = load_case(_path).name
+    _case = load_case(_path)
+    plan_runs(_case, ENGINES, config["laws"], config["K_grid"], config["time_step_factor"],
+              config["default_law_match_K"], config["max_overlap_ratio"])
+    _case_name = _case.name
     if _case_name in _names:
         raise ValueError(f"{_path}: field 'name': {_case_name!r} is already the name of {_names[_case_name]}")
     _names[_case_name] = _path
