@@ -14,8 +14,9 @@ JOBS ?= 2
 study: engines venv
 	$(VENV)/bin/snakemake -j$(JOBS) all
 
+# Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
 test: engines venv
-	$(PY) -m pytest
+	$(PY) -m pytest -n $(JOBS) --dist loadgroup
 
 bench: engines venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver

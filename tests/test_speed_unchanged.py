@@ -28,6 +28,8 @@ from engine_cases import require_engine
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = Path(__file__).parent / "data" / "speed_baseline"
+# One reduced study serves the three tests: keep them on one pytest-xdist worker.
+pytestmark = pytest.mark.xdist_group("speed_baseline")
 ENGINE_COLUMNS = ["V", "K", "dt", "T_e", "A_e", "samples_in_contact", "T", "A", "eps", "Q1", "Q2"]
 KEY = ["engine", "law", "geometry", "criterion", "K"]
 
