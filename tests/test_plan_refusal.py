@@ -70,3 +70,26 @@ def test_shipped_cases_plan_and_the_study_grid_skips_what_cannot_be_resolved():
     cork = plan_runs(load_case(folder / "cork.yaml"), ["lammps"], laws=["viscoelastic"])
     assert [round(s["K"], 6) for s in cork.skipped] == [0.01, 0.01]
     assert all("double-precision" in s["reason"] for s in cork.skipped)
+
+
+def test_plan_listing_hands_on_runs_and_their_reference_and_refuses_a_stale_plan(tmp_path, monkeypatch):
+    import json
+
+    from engines import plan as plan_module
+    from engines.plan import plan_listing, runs_from_listing
+
+    path, _ = plan(tmp_path, "impact: {K: [0.1, 0.2]}")
+    case = load_case(path)
+    listing = json.loads(json.dumps(plan_listing(case, plan_runs(case, ["lammps", "yade"]))))  # as plan.json
+    # The engine job rebuilds its runs without solving the ODE again.
+    monkeypatch.setattr("engines.run_spec.solve_collision", lambda K: pytest.fail("solved again"))
+    runs = runs_from_listing(case, listing, "yade")
+    assert [r.name for r in runs] == [e["name"] for e in listing["runs"] if e["engine"] == "yade"]
+    assert len(runs) == 2 * 2 * 3  # geometries x K x laws
+    for r in runs:
+        assert r.steps() == next(e["steps"] for e in listing["runs"] if e["name"] == r.name)
+        assert r.reference == plan_module.solve_collisions([r.K]).row(0)  # the plan's batch, bit for bit
+    # A plan made for other numbers (here: another density) no longer names the case's runs.
+    path.write_text(path.read_text().replace("7800 kg/m^3", "7850 kg/m^3"))
+    with pytest.raises(ValueError, match=r"the plan is stale: rerun the study"):
+        runs_from_listing(load_case(path), listing, "yade")
