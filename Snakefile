@@ -73,9 +73,11 @@ include: "workflow/rules/reference.smk"
 include: "workflow/rules/convergence.smk"
 include: "workflow/rules/paper.smk"
 include: "workflow/rules/calibration.smk"
+include: "workflow/rules/compare.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used.
-localrules: all, plan, summary, reference_table, series, report, gate, case_verdict, case_gate, calibration, calibration_report
+localrules: all, plan, summary, reference_table, series, report, gate, case_verdict, case_gate, calibration, calibration_report,
+            compare, compare_studies, compare_gate
 
 wildcard_constraints:
     case="|".join(map(re.escape, CASES)),

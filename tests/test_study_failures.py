@@ -226,3 +226,25 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
     again = study(project, extra=["--rerun-incomplete"])
     assert again.returncode == 0, again.stderr[-3000:]
     assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
+
+
+def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_as_fixes(project, tmp_path):
+    baseline = tmp_path / "baseline"
+    shutil.copytree(project, baseline)
+    ok = study(baseline)
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    # The candidate: the same study with an engine whose times are 1 % long, compared through the workflow.
+    out = study(project, f"compare_baseline={baseline / 'results'}", env=faulty_lammps(tmp_path, "stretch"),
+                target="compare")
+    assert out.returncode != 0 and "2 regressions against the baseline" in out.stdout + out.stderr
+    comparison = pd.read_csv(project / "results" / "compare" / "compare.csv")
+    regressions = comparison[comparison.status == "regression"]
+    assert sorted(regressions.criterion + " " + regressions.quantity) == ["F0 T", "x0 T"]
+    assert (comparison[comparison.quantity != "T"].status == "unchanged").all()
+    assert regressions.change.min() > 100  # 5e-5 -> 1e-2
+    assert not (project / "results" / "compare" / "gate.txt").exists()
+    # The other way round (baseline: the faulty build) the same checks are fixes, and it passes.
+    back = subprocess.run([sys.executable, "-m", "postprocess.compare", str(project / "results"),
+                           str(baseline / "results"), "--out", str(tmp_path / "back")], cwd=ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert back.returncode == 0 and "0 regressions, 2 fixes" in back.stdout

@@ -21,7 +21,7 @@ failed = pd.DataFrame([{"engine": m["engine"], **f} for m in manifests for f in 
 checks = gate_checks(pd.read_csv(snakemake.input.summary), pd.DataFrame([{"case": plan["case"], **r}
                                                                           for r in plan["runs"]]), failed, tolerance)
 verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
-checks.to_csv(snakemake.output.checks, index=False, float_format="%.6g")
+checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
 write_junit(checks, snakemake.output.junit)
 write_verdict(verdict, snakemake.output.verdict)
 log.info("%s: verdict %s (%d checks, %d failing)", plan["case"], verdict["verdict"], verdict["checked"],

@@ -35,7 +35,7 @@ if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
 out = Path(snakemake.output.md).parent
-checks.to_csv(snakemake.output.checks, index=False, float_format="%.6g")
+checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
 write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, **optional)
 write_junit(checks, snakemake.output.junit)
 write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
