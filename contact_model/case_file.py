@@ -486,21 +486,28 @@ def _measurements(data: dict, pairs, path):
     return load_measurements(csv_path)
 
 
-def load_case(path) -> Case:
-    """Read and validate a case file: UTF-8 YAML, plain data, a mapping of known fields."""
-    path = Path(path)
+def read_utf8(path: Path, error=CaseError, max_bytes: int = MAX_BYTES, what: str = "a case file is a few "
+              "hundred") -> str:
+    """The text of a small UTF-8 file, or `error(path, '(file)', problem)`: unreadable, larger
+    than `max_bytes`, or not UTF-8 (the byte and its line named)."""
     try:
         raw = path.read_bytes()
     except OSError as err:
-        raise CaseError(path, "(file)", f"cannot read: {err.strerror or err}")
-    if len(raw) > MAX_BYTES:
-        raise CaseError(path, "(file)", f"is {len(raw)} bytes; a case file is a few hundred (limit {MAX_BYTES})")
+        raise error(path, "(file)", f"cannot read: {err.strerror or err}")
+    if len(raw) > max_bytes:
+        raise error(path, "(file)", f"is {len(raw)} bytes; {what} (limit {max_bytes})")
     try:
-        text = raw.decode("utf-8-sig")
+        return raw.decode("utf-8-sig")
     except UnicodeDecodeError as err:
         line = raw[:err.start].count(b"\n") + 1
-        raise CaseError(path, "(file)", f"is not UTF-8 text (byte 0x{raw[err.start]:02x} at line {line}); "
-                                        "save it as UTF-8")
+        raise error(path, "(file)", f"is not UTF-8 text (byte 0x{raw[err.start]:02x} at line {line}); "
+                                    "save it as UTF-8")
+
+
+def load_case(path) -> Case:
+    """Read and validate a case file: UTF-8 YAML, plain data, a mapping of known fields."""
+    path = Path(path)
+    text = read_utf8(path)
     _scan(text, path)
     try:
         data = yaml.load(text, Loader=yaml.SafeLoader)  # noqa: S506 - SafeLoader, after _scan

@@ -45,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .case_file import NUMBER, CaseError, quantity
+from .case_file import NUMBER, CaseError, quantity, read_utf8
 
 COLUMNS = ("velocity", "restitution", "rebound_velocity", "restitution_uncertainty",
            "rebound_velocity_uncertainty")
@@ -216,15 +216,4 @@ def parse_measurements(text: str, path) -> Measurements:
 def load_measurements(path) -> Measurements:
     """Read and validate a measurement file (UTF-8 CSV; see the module docstring)."""
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as err:
-        raise MeasurementError(path, "(file)", f"cannot read: {err.strerror or err}")
-    if len(raw) > MAX_BYTES:
-        raise MeasurementError(path, "(file)", f"is {len(raw)} bytes (limit {MAX_BYTES})")
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        line = raw[:err.start].count(b"\n") + 1
-        raise MeasurementError(path, "(file)", f"is not UTF-8 text (byte 0x{raw[err.start]:02x} at line {line})")
-    return parse_measurements(text, path)
+    return parse_measurements(read_utf8(path, MeasurementError, MAX_BYTES, "a measurement file is a few kB"), path)

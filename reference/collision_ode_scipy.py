@@ -54,6 +54,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize.elementwise import find_root
 
+from .collision_ode import CollisionTable  # the same result type as the compiled solver
+
 #: Tolerances handed to DOP853. The stacked systems use an RMS error norm over all K of a
 #: batch, so one component may carry sqrt(batch) times more error than rtol: 1e-13 keeps the
 #: results within about 1e-12, two orders inside the 1e-10 the study needs.
@@ -64,52 +66,6 @@ K_RANGE = (0.0, 10.0)
 
 ELASTIC = 1.25  # the 5/4 of (5/4) x^{3/2}
 V2_FRACTION = 0.25  # where phase B2 hands over to phase C (see _solve_batch)
-
-
-@dataclass(frozen=True)
-class CollisionTable:
-    """Characteristics of the dimensionless collision, one entry per K (all numpy arrays).
-
-    Lengths are in units of delta_e, times of delta_e/V, velocities of V, forces of
-    M* V^2/delta_e and energies of (1/2) M* V^2.
-
-    Attributes
-    ----------
-    K : dissipation parameter.
-    x_max : maximum compression delta_max/delta_e (= A/A_e, the same under both criteria).
-    tau_max : time of the maximum compression.
-    tau_f, eps_F0 : end time and restitution coefficient when the contact force first
-        returns to zero (criterion F0, Schwager & Poeschel). For K = 0 they equal the x0 values.
-    tau_0, eps_x0 : end time and restitution coefficient when the overlap returns to zero
-        (criterion x0: the ODE as written, with its small attractive tail).
-    force_max, tau_force_max, x_force_max : maximum of the force x^{1/2}(5/4 x + K x'), its time
-        and the compression at that time.
-    dissipated_at_max, dissipated_F0, dissipated_x0 : dissipated energy at the maximum
-        compression and at either end of the collision.
-    energy_residual : largest |kinetic + elastic + dissipated - 1| over the phase end points.
-    """
-
-    K: np.ndarray
-    x_max: np.ndarray
-    tau_max: np.ndarray
-    tau_f: np.ndarray
-    eps_F0: np.ndarray
-    tau_0: np.ndarray
-    eps_x0: np.ndarray
-    force_max: np.ndarray
-    tau_force_max: np.ndarray
-    x_force_max: np.ndarray
-    dissipated_at_max: np.ndarray
-    dissipated_F0: np.ndarray
-    dissipated_x0: np.ndarray
-    energy_residual: np.ndarray
-
-    def row(self, i: int) -> dict:
-        """The i-th entry as a dict of floats."""
-        return {f.name: float(getattr(self, f.name)[i]) for f in fields(self)}
-
-    def rows(self) -> list[dict]:
-        return [self.row(i) for i in range(len(self.K))]
 
 
 # --- right-hand sides, one per phase; y is stacked as (3, n): one column per K --------------
