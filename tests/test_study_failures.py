@@ -32,7 +32,7 @@ geometries: [sphere-sphere]
 impact:
   K: [0.1]
 """
-SMALL = ["engines=[lammps]", "laws=[viscoelastic,default]", "extras=[]"]
+SMALL = ["builds=[{id: lammps, code: lammps, executable: lmp}]", "laws=[viscoelastic,default]", "extras=[]"]
 WRAPPER = '''#!{python}
 """A faulty LAMMPS for the tests: mode {mode!r}."""
 import glob, os, subprocess, sys, time
