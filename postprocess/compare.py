@@ -71,6 +71,7 @@ def compare_checks(baseline: pd.DataFrame, candidate: pd.DataFrame, factor: floa
                    noise_floor: float = 1e-9) -> pd.DataFrame:
     """One row per check of either study: KEY, baseline/candidate error and pass, change
     (candidate / baseline error) and status (regression, fix, unchanged, new, removed)."""
+    baseline, candidate = with_build(baseline), with_build(candidate)
     b = baseline[KEY + ["max_abs_error", "pass"]].rename(columns={"max_abs_error": "baseline_error",
                                                                   "pass": "baseline_pass"})
     c = candidate[KEY + ["max_abs_error", "pass", "reason"]].rename(

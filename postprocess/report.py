@@ -266,7 +266,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
         if len(failed_runs):
             lines += ["Runs the engine did not complete (a gated law's failure fails its checks above; the "
                       "out-of-the-box laws are not gated):", "",
-                      _md_table(pd.DataFrame(list(failed_runs))[["case", "build", "law", "run", "problem", "log"]]),
+                      _md_table(with_build(pd.DataFrame(list(failed_runs)))[["case", "build", "law", "run", "problem", "log"]]),
                       ""]
     if convergence is not None:
         lines += _convergence_section(convergence)
@@ -320,9 +320,9 @@ def _convergence_section(orders: pd.DataFrame) -> list[str]:
         lambda s: ", ".join(sorted(set(s)))).reset_index()
     summary = summary.merge(passing, on=["K", "criterion", "quantity"], how="right")
     return ["## Convergence in the time step", "",
-            "Steel, V = 1 m/s, eta set per K; dt = T_e/250 ... T_e/8000 in every engine and geometry. Order: "
+            "Steel, V = 1 m/s, eta set per K; dt = T_e/250 ... T_e/8000 in every engine build and geometry. Order: "
             "least-squares slope of log|error| against log dt over the points above round-off "
-            "(`results/convergence/orders.csv` per engine and geometry; `errors.csv` the points).", "",
+            "(`results/convergence/orders.csv` per build and geometry; `errors.csv` the points).", "",
             _md_table(summary, ".3g"), "", "![convergence](plots/convergence.png)", ""]
 
 

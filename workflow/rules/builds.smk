@@ -26,9 +26,15 @@ def checked_builds(entries, project_dir):
 BUILDS = checked_builds(config["builds"], workflow.basedir)
 BUILD_IDS = list(BUILDS)
 LAMMPS_BUILDS = [b for b, build in BUILDS.items() if build.code == "lammps"]
-if config["calibration"]["engine"] not in BUILDS:
-    raise BuildError(f"config 'calibration.engine': {config['calibration']['engine']!r} is not the id of a build; "
-                     f"known: {', '.join(BUILD_IDS)}")
+
+
+def calibration_build():
+    """The build of config calibration.engine (closing the calibration's loop)."""
+    if config["calibration"]["engine"] not in BUILDS:
+        raise BuildError(f"config 'calibration.engine': {config['calibration']['engine']!r} is not the id of a "
+                         f"build; known: {', '.join(BUILD_IDS)}")
+    return BUILDS[config["calibration"]["engine"]]
+
 
 
 def build_params(build_id):

@@ -44,12 +44,12 @@ rule calibration_dem:
     input:
         case=lambda w: CALIBRATION_CASES[w.cal_case],
         fit="results/calibration/{cal_case}/fit.json",
-        decks=DECKS[BUILDS[CALIBRATION["engine"]].code],
+        decks=lambda w: DECKS[calibration_build().code],
     output:
         manifest="results/calibration/{cal_case}/dem/manifest.json",
         runs=directory("results/calibration/{cal_case}/dem/runs"),
     log: "logs/calibration/{cal_case}/dem.log"
-    params: build=build_params(CALIBRATION["engine"]), time_step_factor=CALIBRATION["time_step_factor"],
+    params: build=lambda w: build_params(calibration_build().id), time_step_factor=CALIBRATION["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"]
     threads: 1
     resources: runtime=30, mem_mb=2000
