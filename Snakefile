@@ -1,12 +1,12 @@
 """The viscoelastic Hertz validation study.
 
-    snakemake -j2 all                 every case, every engine, the report, the verdict and the gate
+    snakemake -j2 all                 every case, every engine build, the report, the verdict and the gate
     snakemake -j2 steel               one case (its file name in cases/ without .yaml) and its own gate
     snakemake -j2 results/steel/summary.csv
     snakemake -j2 calibration         eta fitted to every case with measurements (results/calibration/)
 
 Settings: config/config.yaml (validated against config/config.schema.yaml). Logs: logs/,
-benchmarks: benchmarks/<case>/<engine>.tsv, results: results/. The rules live in
+benchmarks: benchmarks/<case>/<build>.tsv, results: results/. The rules live in
 workflow/rules/*.smk, one file per concern; this file keeps the config, the includes and the
 targets.
 """
@@ -48,12 +48,9 @@ os.environ["PYTHONPATH"] = os.pathsep.join(
 from contact_model import load_case  # noqa: E402
 from engines.plan import plan_runs  # noqa: E402
 
-ENGINES = config["engines"]
 EXTRAS = config["extras"]
 DECKS = {"liggghts": sorted(glob.glob("cases/decks/liggghts/*.in")), "yade": ["cases/decks/yade/collisions.py"],
          "lammps": sorted(glob.glob("cases/decks/lammps/*.in"))}
-SETTINGS = {k: config[k] for k in ("engines", "laws", "K_grid", "time_step_factor", "default_law_match_K",
-                                   "max_overlap_ratio", "engine_timeout_floor_s")}
 
 
 rule all:
@@ -66,6 +63,7 @@ rule all:
         "results/reference/collisions.csv",
 
 
+include: "workflow/rules/builds.smk"
 include: "workflow/rules/cases.smk"
 include: "workflow/rules/engines.smk"
 include: "workflow/rules/verdict.smk"
@@ -76,12 +74,13 @@ include: "workflow/rules/calibration.smk"
 include: "workflow/rules/compare.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used.
-localrules: all, plan, summary, reference_table, series, report, gate, case_verdict, case_gate, calibration, calibration_report,
+localrules: all, plan, summary, lammps_regressions, reference_table, series, report, gate, case_verdict, case_gate, calibration, calibration_report,
             compare, compare_studies, compare_gate
 
 wildcard_constraints:
     case="|".join(map(re.escape, CASES)),
-    engine="|".join(map(re.escape, ENGINES)),
+    build="|".join(map(re.escape, BUILD_IDS)),
+    lammps_build="|".join(map(re.escape, LAMMPS_BUILDS)) or "(?!)",
     cal_case="|".join(map(re.escape, CALIBRATION_CASES)) or "(?!)",
 
 # One target per case, named as its file: `snakemake -j2 steel` runs the case and its gate.

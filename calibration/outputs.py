@@ -90,14 +90,15 @@ def write_fit(case: Case, summary: dict, fits: dict[str, Fit], out_dir) -> None:
     plot_fit(case, fits, out / "fit.png")
 
 
-def loop_runs(case: Case, summary: dict, engine: str, time_step_factor: float) -> list[RunSpec]:
+def loop_runs(case: Case, summary: dict, engine: str, time_step_factor: float, build: str = "") -> list[RunSpec]:
     """The DEM runs that close the loop: the calibrated pair of each criterion at every measured
     velocity, in the law that represents that criterion."""
     runs = []
     for criterion, law in LOOP_LAW.items():
         pair = calibrated_pair(case.pairs[0], summary["fits"][criterion]["eta_Pa_s"])
         for v in sorted(set(case.measurements.velocity.tolist())):
-            runs.append(RunSpec(f"{case.name}-calibration", engine, law, pair, v, time_step_factor, label=criterion))
+            runs.append(RunSpec(f"{case.name}-calibration", engine, law, pair, v, time_step_factor, label=criterion,
+                                build=build))
     return runs
 
 
@@ -113,7 +114,7 @@ def loop_table(dumps, summary: dict, measured: pd.DataFrame | None = None) -> pd
         fit = summary["fits"][criterion]
         K = fit["K_at_V_ref"] * (meta["impact_velocity"] / fit["V_ref"]) ** 0.2
         eps_model = float(exact_restitution(criterion)([K])[0])
-        row = {"criterion": criterion, "engine": meta["engine"], "V": meta["impact_velocity"], "K": K,
+        row = {"criterion": criterion, "build": meta.get("build", meta["engine"]), "engine": meta["engine"], "V": meta["impact_velocity"], "K": K,
                "eps_dem": eps_dem, "eps_fit": eps_model, "dem_minus_fit": eps_dem - eps_model, "dump": Path(path).name}
         if measured is not None:
             at = measured[np.isclose(measured.V, row["V"], rtol=1e-12)]
@@ -174,7 +175,7 @@ def case_section(summary: dict, residuals: pd.DataFrame, loop: pd.DataFrame | No
               _md(engine_parameter_table(s)), ""]
     if loop is not None and len(loop):
         worst = loop.dem_minus_fit.abs().max()
-        lines += [f"**Closing the loop.** The calibrated parameters run in {loop.engine.iloc[0]} at every measured "
+        lines += [f"**Closing the loop.** The calibrated parameters run in {loop.build.iloc[0]} ({loop.engine.iloc[0]}) at every measured "
                   f"velocity ({LOOP_LAW['x0']} law for x0, {LOOP_LAW['F0']} for F0): the DEM eps differs from the "
                   f"fitted model's by at most {worst:.2g}.", "", _md(loop.drop(columns=["dump"])), ""]
     lines += [f"![fit]({folder}/fit.png)", ""]

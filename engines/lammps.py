@@ -6,7 +6,7 @@ force, attractive tail kept. `limit_damping` clips the total force at zero (crit
 The out-of-the-box law is `hertz/material` with `damping tsuji`, whose coefficient is the
 restitution coefficient itself.
 
-Known defect of this version, kept as a regression case (`wall_modulus_regression`): fix
+Known defect of the 2021 version (fixed in 22 Jul 2025), kept as a regression case (`wall_modulus_regression`): fix
 wall/gran with `hertz/material E eta nu` uses E / (2 (1 - nu)) instead of E / (2 (1 - nu^2))
 (src/GRANULAR/fix_wall_gran.cpp), so the study always gives the wall an explicit `hertz` kn.
 """
@@ -66,14 +66,21 @@ def run_lammps(specs: list[RunSpec], workdir, executable: str = "lmp",
 
 
 def wall_modulus_regression(workdir, young: float = 200e9, poisson: float = 0.3, radius: float = 0.005,
-                            density: float = 7800.0, velocity: float = 1.0, executable: str = "lmp"):
+                            density: float = 7800.0, velocity: float = 1.0, executable: str = "lmp",
+                            build: str = ""):
     """The wall `hertz/material` defect, measured: an elastic sphere on a plane of its own
     material (E* = Y / (2 (1 - nu^2))), once with an explicit `hertz` kn = 4/3 E* and once with
-    `hertz/material Y 0 nu` as a user would write it. Returns ((explicit, material), sweep)."""
+    `hertz/material Y 0 nu` as a user would write it, in the LAMMPS `executable` (build id
+    `build` in the run names). Returns ((explicit, material), sweep).
+
+    The 2021 build's wall gives the material run an error of (1 + nu)^(-2/5) - 1 in T (its wall
+    E* is 1 + nu times too large); a build with the fix gives 0."""
     sphere = Body(radius, density, young, poisson)
     pair = ContactPair.from_bodies(sphere, Body(math.inf, math.inf, young, poisson), 0.0)
     spec = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity)
-    material = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity, label="hertz-material")
+    spec = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity, build=build)
+    material = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity, label="hertz-material",
+                       build=build)
     words = f"hertz/material {number(young)} 0.0 {number(poisson)} damping viscoelastic {TANGENTIAL}"
     overrides = {material.name: {"model": words}}
     return (spec, material), run_lammps([spec, material], workdir, executable, overrides=overrides)

@@ -119,6 +119,20 @@ def matched_restitution(engine: str, match_K: float) -> float:
     return r["eps_x0"] if DEFAULT_LAW_CRITERION[engine] == "x0" else r["eps_F0"]
 
 
+def build_codes(builds) -> dict[str, str]:
+    """{build id: code} of `builds`: `engines.builds.Build`s, {id, code} mappings (the plan's
+    settings), or bare codes (a build named as its code, e.g. in tests)."""
+    out = {}
+    for b in builds:
+        if isinstance(b, str):
+            out[b] = b
+        elif isinstance(b, dict):
+            out[b["id"]] = b["code"]
+        else:
+            out[b.id] = b.code
+    return out
+
+
 @dataclass
 class Plan:
     """The runs of a case, and the (geometry, velocity) pairs not run with the reason."""
@@ -130,7 +144,8 @@ class Plan:
 def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3, 0.5),
               time_step_factor: float = 1000.0, match_K: float = 0.1,
               max_overlap_ratio: float = 0.5, roundoff_limit: float = ROUNDOFF_LIMIT) -> Plan:
-    """Every run of `case` for the given engines and laws, in a stable order.
+    """Every run of `case` for the given engine builds (see `build_codes`) and laws, in a
+    stable order: every build runs the same pairs, velocities, laws and time step.
 
     Raises `PlanError` (naming the case file and the field) for a case the engines cannot run
     honestly: see the module's docstring."""
@@ -168,22 +183,24 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     keys = [(pair.geometry, v) for pair in case.pairs for v in allowed[pair.geometry]]
     Ks = [case.pair(g).dissipation_parameter(v) for g, v in keys]
     reference = dict(zip(keys, solve_collisions(Ks).rows()))
-    matched = {engine: matched_restitution(engine, match_K) for engine in engines} if "default" in laws else {}
-    for engine in engines:
+    builds = build_codes(engines)
+    matched = {code: matched_restitution(code, match_K) for code in set(builds.values())} if "default" in laws else {}
+    for build, engine in builds.items():
         for pair in case.pairs:
             for law in laws:
                 if law != "viscoelastic" and pair.eta == 0:
                     continue  # an elastic contact never pulls (nothing to clip) and has no restitution to match
                 e = matched[engine] if law == "default" else None
                 plan.runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e,
-                                      reference=reference[(pair.geometry, v)]) for v in allowed[pair.geometry]]
+                                      reference=reference[(pair.geometry, v)], build=build)
+                              for v in allowed[pair.geometry]]
     return plan
 
 
 def plan_listing(case: Case, plan: Plan) -> dict:
     """The plan as plain data (plan.json): every run with what it needs and its reference row."""
     return {"case": case.name, "file": case.path,
-            "runs": [{"name": r.name, "engine": r.engine, "law": r.law, "geometry": r.pair.geometry,
+            "runs": [{"name": r.name, "build": r.build, "engine": r.engine, "law": r.law, "geometry": r.pair.geometry,
                       "represents": list(r.represents), "velocity": r.velocity, "K": r.K,
                       "time_step_factor": r.time_step_factor, "time_step": r.time_step, "steps": r.steps(),
                       "matched_restitution": r.matched_restitution, "reference": r.reference}
@@ -191,17 +208,17 @@ def plan_listing(case: Case, plan: Plan) -> dict:
             "not_run": plan.skipped}
 
 
-def runs_from_listing(case: Case, listing: dict, engine: str) -> list[RunSpec]:
-    """The runs of `engine` in a plan listing (plan_listing), rebuilt with their reference rows,
+def runs_from_listing(case: Case, listing: dict, build: str) -> list[RunSpec]:
+    """The runs of build `build` (its id) in a plan listing (plan_listing), rebuilt with their reference rows,
     so that no later rule solves the ODE again. A listing that does not match the case (a run
     whose name comes out different) is an error: the plan is stale."""
     runs = []
     for entry in listing["runs"]:
-        if entry["engine"] != engine:
+        if entry["build"] != build:
             continue
-        spec = RunSpec(case.name, engine, entry["law"], case.pair(entry["geometry"]), entry["velocity"],
+        spec = RunSpec(case.name, entry["engine"], entry["law"], case.pair(entry["geometry"]), entry["velocity"],
                        entry["time_step_factor"], matched_restitution=entry["matched_restitution"],
-                       reference=entry["reference"])
+                       reference=entry["reference"], build=build)
         if spec.name != entry["name"]:
             raise ValueError(f"{case.path}: the plan lists run {entry['name']!r} but the case gives {spec.name!r}; "
                              "the plan is stale: rerun the study")
@@ -210,7 +227,7 @@ def runs_from_listing(case: Case, listing: dict, engine: str) -> list[RunSpec]:
 
 
 def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, velocity: float,
-                     purpose: str) -> list[RunSpec]:
+                     purpose: str, build: str = "") -> list[RunSpec]:
     """Runs of the case's material and geometries at one impact velocity, the viscosity set for
     each K (K = 0: elastic), at every time-step factor (the convergence study, the paper's
     Fig. 4). `purpose` tags the case name."""
@@ -222,6 +239,6 @@ def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, veloc
         for K in K_values:
             eta = viscosity_for_dissipation(pair.E, pair.R, pair.M, velocity, K) if K > 0 else 0.0
             tuned = ContactPair(pair.geometry, pair.body_1, pair.body_2, pair.E, eta)
-            runs += [RunSpec(f"{case.name}-{purpose}", engine, "viscoelastic", tuned, velocity, f)
+            runs += [RunSpec(f"{case.name}-{purpose}", engine, "viscoelastic", tuned, velocity, f, build=build)
                      for f in time_step_factors]
     return runs

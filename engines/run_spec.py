@@ -53,8 +53,13 @@ class RunSpec:
     #: The reference solution at this run's K (a `reference.CollisionTable` row), solved once
     #: for the whole case by the plan and handed on; None: solved here when needed.
     reference: dict | None = field(default=None, compare=False, repr=False)
+    #: The engine build (config `builds:`) that runs it; its id leads the run's name, so two
+    #: builds of one code never collide. Empty: the code's name (a build named as its code).
+    build: str = ""
 
     def __post_init__(self):
+        if not self.build:
+            object.__setattr__(self, "build", self.engine)
         if self.engine not in ENGINES:
             raise ValueError(f"unknown engine {self.engine!r}; known: {ENGINES}")
         if self.law not in LAWS:
@@ -87,7 +92,7 @@ class RunSpec:
 
     @property
     def name(self) -> str:
-        name = (f"{self.engine}-{self.law}-{self.pair.geometry}-K{self.K:.6g}-V{self.velocity:.6e}"
+        name = (f"{self.build}-{self.law}-{self.pair.geometry}-K{self.K:.6g}-V{self.velocity:.6e}"
                 f"-dt{self.time_step_factor:g}")
         if self.matched_restitution is not None:
             name += f"-e{self.matched_restitution:.6f}"
@@ -136,7 +141,7 @@ class RunSpec:
         p = self.pair
         s = self.scales
         meta = {
-            "case": self.case, "engine": self.engine, "law": self.law, "geometry": p.geometry,
+            "case": self.case, "build": self.build, "engine": self.engine, "law": self.law, "geometry": p.geometry,
             "represents": list(self.represents),
             "impact_velocity": self.velocity, "K": self.K, "time_step": self.time_step,
             "time_step_factor": self.time_step_factor,

@@ -4,7 +4,7 @@
 
 BASELINE and CANDIDATE are each a results folder (its checks.csv, written by the study's report
 rule, with the runs that failed) or a summary.csv (its checks are made here, from the runs it
-holds, against --tolerance). For every engine x law x geometry x criterion x quantity:
+holds, against --tolerance). For every engine build x law x geometry x criterion x quantity:
 
     regression  fails in the candidate and passed in the baseline, or
                 e_c > factor * max(e_b, noise_floor)
@@ -28,7 +28,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .gate import GATED_QUANTITIES, GROUP, gate_checks
+from .gate import GATED_QUANTITIES, GROUP, gate_checks, with_build
 from .verdict_files import write_atomically
 
 KEY = [*GROUP, "quantity"]
@@ -53,6 +53,7 @@ def load_checks(path, tolerance: dict = DEFAULT_TOLERANCE) -> pd.DataFrame:
         table = pd.read_csv(path)
     except (OSError, ValueError) as err:
         raise CompareError(f"{path}: cannot read it as CSV ({err})")
+    table = with_build(table)  # a study from before builds: each code was its own build
     if set(KEY + ["max_abs_error", "pass"]) <= set(table.columns):
         return table  # a checks.csv
     needed = set(GROUP + ["K", "case"] + [f"err_{q}" for q in GATED_QUANTITIES])
@@ -61,7 +62,7 @@ def load_checks(path, tolerance: dict = DEFAULT_TOLERANCE) -> pd.DataFrame:
                            f"{sorted(needed - set(table.columns))})")
     # A summary alone: every run it holds was planned and landed (failed runs are not in it).
     runs = table if "run" in table else table.assign(run=[f"row-{i}" for i in range(len(table))])
-    planned = runs.groupby(["case", "run", "engine", "law", "geometry"]).criterion.apply(list).reset_index()
+    planned = runs.groupby(["case", "run", "build", "engine", "law", "geometry"]).criterion.apply(list).reset_index()
     planned = planned.rename(columns={"run": "name", "criterion": "represents"})
     return gate_checks(runs, planned, pd.DataFrame(), tolerance)
 
@@ -70,6 +71,7 @@ def compare_checks(baseline: pd.DataFrame, candidate: pd.DataFrame, factor: floa
                    noise_floor: float = 1e-9) -> pd.DataFrame:
     """One row per check of either study: KEY, baseline/candidate error and pass, change
     (candidate / baseline error) and status (regression, fix, unchanged, new, removed)."""
+    baseline, candidate = with_build(baseline), with_build(candidate)
     b = baseline[KEY + ["max_abs_error", "pass"]].rename(columns={"max_abs_error": "baseline_error",
                                                                   "pass": "baseline_pass"})
     c = candidate[KEY + ["max_abs_error", "pass", "reason"]].rename(

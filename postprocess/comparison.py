@@ -55,7 +55,8 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
         eps_ref = r["eps_x0"] if criterion == "x0" else r["eps_F0"]
         ref = measured(tau / HERTZ_TAU * T_e, r["x_max"] * A_e, eps_ref, V)
         row = {
-            "case": meta["case"], "engine": meta["engine"], "engine_version": meta["engine_version"],
+            "case": meta["case"], "build": meta.get("build", meta["engine"]), "engine": meta["engine"],
+            "engine_version": meta["engine_version"],
             "law": meta["law"], "geometry": meta["geometry"], "criterion": criterion,
             "V": V, "K": K, "dt": meta["time_step"], "T_e": T_e, "A_e": A_e, "Q1e": Qe["Q1"], "Q2e": Qe["Q2"],
             "samples_in_contact": m.samples_in_contact,

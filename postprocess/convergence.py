@@ -35,14 +35,17 @@ def largest_passing_factor(factors, error, tolerance: float):
 
 
 def convergence_table(errors: pd.DataFrame, tolerance: dict) -> pd.DataFrame:
-    """Orders and largest passing dt per engine x geometry x K x criterion x quantity."""
+    """Orders and largest passing dt per engine build x geometry x K x criterion x quantity."""
+    from .gate import with_build
+
+    errors = with_build(errors)
     rows = []
-    for keys, g in errors.groupby(["engine", "geometry", "K", "criterion"]):
+    for keys, g in errors.groupby(["build", "geometry", "K", "criterion"]):
         g = g.sort_values("time_step_factor")
         for q in ("T", "A", "eps"):
             f = g.time_step_factor.to_numpy()
             e = g[f"err_{q}"].to_numpy()
-            rows.append({**dict(zip(["engine", "geometry", "K", "criterion"], keys)), "quantity": q,
+            rows.append({**dict(zip(["build", "geometry", "K", "criterion"], keys)), "quantity": q,
                          "order": observed_order(1.0 / f, e),
                          "error_at_T_e/1000": float(e[f == 1000][0]) if (f == 1000).any() else float("nan"),
                          "largest_passing_dt": (f"T_e/{int(p)}" if (p := largest_passing_factor(f, e, tolerance[q]))

@@ -1,4 +1,4 @@
-"""The study's gate: one check per engine x gated law x geometry x criterion x quantity.
+"""The study's gate: one check per engine build x gated law x geometry x criterion x quantity.
 
 A check is made for every combination the plans asked for, whether or not its runs landed:
 
@@ -27,7 +27,15 @@ from engines.run_spec import GATED_LAWS
 from .verdict_files import write_atomically
 
 GATED_QUANTITIES = ("T", "A", "eps")
-GROUP = ["engine", "law", "geometry", "criterion"]
+GROUP = ["build", "law", "geometry", "criterion"]
+
+
+def with_build(df: pd.DataFrame) -> pd.DataFrame:
+    """`df` with a build column: tables from before engine builds were configurable have none,
+    and their build is the engine's code (the only build of each code then)."""
+    if "build" in df.columns or "engine" not in df.columns:
+        return df
+    return df.assign(build=df["engine"])
 
 
 def planned_groups(plan_runs: pd.DataFrame) -> pd.DataFrame:
@@ -43,9 +51,9 @@ def planned_groups(plan_runs: pd.DataFrame) -> pd.DataFrame:
     DataFrame with columns case, run, engine, law, geometry, criterion.
     """
     if plan_runs.empty:
-        return pd.DataFrame(columns=["case", "run", *GROUP])
-    gated = plan_runs[plan_runs.law.isin(GATED_LAWS)].explode("represents")
-    return gated.rename(columns={"name": "run", "represents": "criterion"})[["case", "run", *GROUP]]
+        return pd.DataFrame(columns=["case", "run", "engine", *GROUP])
+    gated = with_build(plan_runs)[plan_runs.law.isin(GATED_LAWS)].explode("represents")
+    return gated.rename(columns={"name": "run", "represents": "criterion"})[["case", "run", "engine", *GROUP]]
 
 
 def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.DataFrame,
@@ -71,7 +79,10 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
     tolerance, pass (bool) and reason (why it failed; empty when it passed).
     """
     planned = planned_groups(plan_runs)
+    table = with_build(table)
     landed = table[table.law.isin(GATED_LAWS)] if len(table) else table
+    code_of_build = {**dict(zip(landed.build, landed.engine)), **dict(zip(planned.build, planned.engine))} \
+        if len(landed) else dict(zip(planned.build, planned.engine))
     failed_runs = failed_runs if len(failed_runs) else pd.DataFrame(columns=["run", "problem", "log"])
     failed = planned.merge(failed_runs[["run", "problem", "log"]], on="run", how="inner")
     keys = sorted(set(map(tuple, planned[GROUP].to_numpy())) |
@@ -82,7 +93,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
         n_planned, n_landed, n_failed = len(sel_plan), len(sel), len(sel_failed)
         missing = sorted(set(sel_plan.run) - set(sel.run if len(sel) else ()) - set(sel_failed.run))
         for q in GATED_QUANTITIES:
-            row = {**dict(zip(GROUP, key)), "quantity": q, "planned": n_planned, "landed": n_landed,
+            row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q, "planned": n_planned, "landed": n_landed,
                    "failed": n_failed, "max_abs_error": math.nan, "at_K": math.nan, "case": "",
                    "tolerance": float(tolerance[q]), "pass": False, "reason": ""}
             if n_landed:
@@ -107,7 +118,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
             row["pass"] = not reasons
             row["reason"] = "; ".join(reasons)
             rows.append(row)
-    columns = [*GROUP, "quantity", "planned", "landed", "failed", "max_abs_error", "at_K", "case", "tolerance",
+    columns = [GROUP[0], "engine", *GROUP[1:], "quantity", "planned", "landed", "failed", "max_abs_error", "at_K", "case", "tolerance",
                "pass", "reason"]
     return pd.DataFrame(rows, columns=columns)
 
@@ -123,8 +134,8 @@ def _of_group(df: pd.DataFrame, key: tuple) -> pd.DataFrame:
 
 
 def check_name(row) -> str:
-    """'engine law geometry criterion quantity', how a check is named everywhere."""
-    return f"{row['engine']} {row['law']} {row['geometry']} {row['criterion']} {row['quantity']}"
+    """'build law geometry criterion quantity', how a check is named everywhere."""
+    return f"{row['build']} {row['law']} {row['geometry']} {row['criterion']} {row['quantity']}"
 
 
 def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> dict:
@@ -140,7 +151,7 @@ def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> di
 
 
 def junit_xml(checks: pd.DataFrame, suite: str = "hertz-dem-gate") -> ET.ElementTree:
-    """JUnit XML: one <testcase> per check (classname 'engine.law.geometry.criterion', name the
+    """JUnit XML: one <testcase> per check (classname 'build.law.geometry.criterion', name the
     quantity), a <failure> with the reason where it failed."""
     n_fail = int((~checks["pass"]).sum()) if len(checks) else 0
     suites = ET.Element("testsuites", name=suite, tests=str(len(checks)), failures=str(n_fail), errors="0")

@@ -23,7 +23,7 @@ import pandas as pd  # noqa: E402
 from engines import GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 
-from .gate import GATED_QUANTITIES  # noqa: E402
+from .gate import GATED_QUANTITIES, with_build  # noqa: E402
 from .verdict_files import write_atomically  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
@@ -145,8 +145,8 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
         out.append(f"The viscoelastic runs ({len(gated)} run x criterion rows) agree with the reference solver to "
                    f"a median relative error of {np.median(e):.1e} and at most {e.max():.1e} in T, A and eps.")
         both = gated[gated.law == "viscoelastic"]
-        if both.engine.nunique() >= 2:
-            piv = both.pivot_table(index=["case", "geometry", "criterion", "K"], columns="engine", values="err_eps")
+        if both.build.nunique() >= 2:
+            piv = both.pivot_table(index=["case", "geometry", "criterion", "K"], columns="build", values="err_eps")
             piv = piv.dropna()
             if len(piv):
                 gap = float((piv.max(axis=1) - piv.min(axis=1)).max())
@@ -196,6 +196,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     results/calibration/report.md, included as a section; reference: the reference table over a
     K grid (results/reference/collisions.csv) for the curves of the plots.
     """
+    table = with_build(table)
     out_dir = Path(out_dir)
     plots = out_dir / "plots"
     plots.mkdir(parents=True, exist_ok=True)
@@ -213,7 +214,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     lines = [
         "# Viscoelastic Hertz contact in DEM engines: comparison report", "",
         f"**Verdict: {verdict['verdict']}** — {verdict['checked'] - verdict['failed']} of {verdict['checked']} gated "
-        "checks (engine x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs reference): "
+        "checks (engine build x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs reference): "
         + ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES) + ".", "",
     ]
     if verdict["verdict"] != "PASS":
@@ -223,15 +224,17 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
               f"{verdict['summary_sha256'][:12]}…). Machine-readable: `verdict.json`, `junit.xml` (one test case "
               "per check).", ""]
     if has_rows:
-        versions = table.groupby("engine").engine_version.unique()
-        lines += ["## Engines", ""] + [f"- **{e}**: {', '.join(v)}" for e, v in versions.items()] + [""]
+        versions = table.groupby(["build", "engine"], sort=False).engine_version.unique()
+        lines += ["## Engines", "", "Every engine build (config `builds:`) runs the same cases, laws, geometries and "
+                  "time steps; its version is read from the engine and recorded in every dump.", ""]
+        lines += [f"- **{b}** ({e}): {', '.join(v)}" for (b, e), v in versions.items()] + [""]
         lines += ["Cases: " + ", ".join(f"[{c}]({c}/summary.csv)" for c in sorted(table.case.unique())), ""]
     shown = checks.assign(**{"pass": checks["pass"].map({True: "pass", False: "FAIL"})})
     lines += ["## Largest relative error, engine vs reference solver", "",
               "Viscoelastic law with the attractive tail kept (criteria x0 and F0 from one trajectory) and "
               "with the force clipped at zero (criterion F0 only). A check also fails when one of its runs failed "
               "or left no result (`reason`).", "",
-              _md_table(shown[["engine", "law", "geometry", "criterion", "quantity", "max_abs_error", "tolerance",
+              _md_table(shown[["build", "engine", "law", "geometry", "criterion", "quantity", "max_abs_error", "tolerance",
                                "pass", "case", "at_K", "reason"]]), ""]
     if has_rows:
         lines += ["## Against K", "", "Engines as markers, the reference solver as a line, the paper's series dashed.",
@@ -239,7 +242,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                   "![errors](plots/errors.png)", ""]
     if has_rows and (table.law == "default").any():
         d = table[table.law == "default"]
-        drift = d.groupby(["engine", "geometry", "criterion"]).agg(
+        drift = d.groupby(["build", "geometry", "criterion"]).agg(
             restitution=("matched_restitution", "first"),
             eps_min=("eps", "min"), eps_max=("eps", "max"),
             worst_eps_err=("err_eps", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
@@ -263,18 +266,12 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
         if len(failed_runs):
             lines += ["Runs the engine did not complete (a gated law's failure fails its checks above; the "
                       "out-of-the-box laws are not gated):", "",
-                      _md_table(pd.DataFrame(list(failed_runs))[["case", "engine", "law", "run", "problem", "log"]]),
+                      _md_table(with_build(pd.DataFrame(list(failed_runs)))[["case", "build", "law", "run", "problem", "log"]]),
                       ""]
     if convergence is not None:
         lines += _convergence_section(convergence)
     if lammps_wall is not None:
-        r = lammps_wall.iloc[-1]
-        lines += ["## LAMMPS: the wall modulus of `hertz/material`", "",
-                  f"A sphere on a plane of its own material (nu = {r.poisson:g}), elastic. With an explicit `hertz` "
-                  "kn = 4/3 E* the engine matches the reference; with `fix wall/gran ... hertz/material E eta nu`, "
-                  "as a user would write it, the Debian version (29 Sep 2021) uses E/(2(1-nu)) instead of "
-                  "E/(2(1-nu^2)) for the wall: (1+nu) times too stiff. The study gives the wall an explicit kn.", "",
-                  _md_table(lammps_wall, ".4g"), ""]
+        lines += _lammps_regression_section(lammps_wall)
     if claims is not None:
         lines += _paper_section(claims, table1, energy_check)
     if calibration is not None:
@@ -286,6 +283,24 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     text = "\n".join(lines)
     write_atomically(out_dir / "report.md", text)
     _write_html(text, out_dir / "report.html")
+
+
+def _lammps_regression_section(wall: pd.DataFrame) -> list[str]:
+    """The LAMMPS regression cases, build x case -> relative error in T, then the runs."""
+    nu = float(wall.poisson.iloc[0])
+    matrix = wall.pivot_table(index=["build", "engine_version"], columns="wall model", values="err_T",
+                              sort=False).reset_index()
+    matrix.columns.name = None
+    matrix = matrix.rename(columns={c: f"err_T, {c}" for c in matrix.columns if c not in ("build", "engine_version")})
+    return ["## LAMMPS: the wall modulus of `hertz/material`", "",
+            f"Regression case, run in every LAMMPS build: a sphere on a plane of its own material (nu = {nu:g}), "
+            "elastic. With an explicit `hertz` kn = 4/3 E* every build matches the reference; with `fix wall/gran "
+            "... hertz/material E eta nu`, as a user would write it, Debian's build (29 Sep 2021) uses E/(2(1-nu)) "
+            "instead of E/(2(1-nu^2)) for the wall, (1+nu) times too stiff, so T is off by "
+            f"(1+nu)^(-2/5) - 1 = {(1 + nu) ** -0.4 - 1:.4%}; a build with the fix (22 Jul 2025) gives 0. The study "
+            "always gives the wall an explicit kn. Relative error in the contact time T, build x case:", "",
+            _md_table(matrix, ".4g"), "", "The runs (`results/lammps/wall_modulus.csv`):", "",
+            _md_table(wall, ".4g"), ""]
 
 
 def _calibration_section(markdown_text: str, folder: str = "calibration") -> list[str]:
@@ -305,9 +320,9 @@ def _convergence_section(orders: pd.DataFrame) -> list[str]:
         lambda s: ", ".join(sorted(set(s)))).reset_index()
     summary = summary.merge(passing, on=["K", "criterion", "quantity"], how="right")
     return ["## Convergence in the time step", "",
-            "Steel, V = 1 m/s, eta set per K; dt = T_e/250 ... T_e/8000 in every engine and geometry. Order: "
+            "Steel, V = 1 m/s, eta set per K; dt = T_e/250 ... T_e/8000 in every engine build and geometry. Order: "
             "least-squares slope of log|error| against log dt over the points above round-off "
-            "(`results/convergence/orders.csv` per engine and geometry; `errors.csv` the points).", "",
+            "(`results/convergence/orders.csv` per build and geometry; `errors.csv` the points).", "",
             _md_table(summary, ".3g"), "", "![convergence](plots/convergence.png)", ""]
 
 

@@ -115,7 +115,7 @@ def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
     from postprocess.comparison import comparison_rows
 
     meta = meta_for(K=0.1)
-    table = pd.DataFrame([{**r, "run": "a", "engine": "lammps", "err_T": 1e-2}
+    table = pd.DataFrame([{**r, "run": "a", "build": "lammps", "engine": "lammps", "err_T": 1e-2}
                           for r in comparison_rows(meta, exact_metrics(meta))])
     table["geometry"] = "sphere-sphere"
     failed_runs = [{"case": "steel", "engine": "lammps", "law": "default", "run": "d",

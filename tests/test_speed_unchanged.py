@@ -45,7 +45,7 @@ def study(tmp_path_factory):
     shutil.copytree(ROOT / "cases" / "decks", root / "cases" / "decks")
     shutil.copy(ROOT / "cases" / "steel.yaml", root / "cases")
     out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "results/steel/summary.csv", "--config",
-                          "cases=cases/steel.yaml", "K_grid=[0.01,0.1,0.2]", "engines=[lammps]"],
+                          "cases=cases/steel.yaml", "K_grid=[0.01,0.1,0.2]", "builds=[{id: lammps, code: lammps, executable: lmp}]"],
                          cwd=root, capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-3000:]
     return root / "results" / "steel"

@@ -32,7 +32,7 @@ geometries: [sphere-sphere]
 impact:
   K: [0.1]
 """
-SMALL = ["engines=[lammps]", "laws=[viscoelastic,default]", "extras=[]"]
+SMALL = ["builds=[{id: lammps, code: lammps, executable: lmp}]", "laws=[viscoelastic,default]", "extras=[]"]
 WRAPPER = '''#!{python}
 """A faulty LAMMPS for the tests: mode {mode!r}."""
 import glob, os, subprocess, sys, time
@@ -66,6 +66,8 @@ def project(tmp_path):
     (root / "cases").mkdir()
     shutil.copytree(ROOT / "cases" / "decks", root / "cases" / "decks")
     (root / "cases" / "steel.yaml").write_text(CASE)
+    if (ROOT / ".venv-lammps").exists():  # the default config's lammps-2025 build, relative to the project
+        (root / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
     return root
 
 

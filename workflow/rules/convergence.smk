@@ -1,17 +1,18 @@
-# Time-step convergence of every engine, and the LAMMPS wall-modulus regression case.
+# Time-step convergence of every engine build, and the LAMMPS regression cases of every LAMMPS build.
 
 
 rule convergence_runs:
-    """Time-step convergence: one engine, every K and time-step factor, in one engine process."""
+    """Time-step convergence: one build, every K and time-step factor, in one engine process."""
     input:
         case=config["convergence"]["case"],
-        decks=lambda w: DECKS[w.engine],
+        decks=lambda w: DECKS[BUILDS[w.build].code],
     output:
-        manifest="results/convergence/{engine}/manifest.json",
-        runs=directory("results/convergence/{engine}/runs"),
-    log: "logs/convergence/{engine}.log"
-    benchmark: "benchmarks/convergence/{engine}.tsv"
-    params: convergence=config["convergence"], timeout_floor_s=config["engine_timeout_floor_s"]
+        manifest="results/convergence/{build}/manifest.json",
+        runs=directory("results/convergence/{build}/runs"),
+    log: "logs/convergence/{build}.log"
+    benchmark: "benchmarks/convergence/{build}.tsv"
+    params: convergence=config["convergence"], timeout_floor_s=config["engine_timeout_floor_s"],
+            build=lambda w: build_params(w.build)
     resources: runtime=30, mem_mb=2000
     script: "../scripts/convergence_runs.py"
 
@@ -19,8 +20,8 @@ rule convergence_runs:
 rule convergence_summary:
     """Errors against dt, the observed orders and the largest passing dt; the log-log plot."""
     input:
-        manifests=expand("results/convergence/{engine}/manifest.json", engine=ENGINES),
-        runs=expand("results/convergence/{engine}/runs", engine=ENGINES),
+        manifests=expand("results/convergence/{build}/manifest.json", build=BUILD_IDS),
+        runs=expand("results/convergence/{build}/runs", build=BUILD_IDS),
     output:
         errors="results/convergence/errors.csv",
         orders="results/convergence/orders.csv",
@@ -31,9 +32,19 @@ rule convergence_summary:
 
 
 rule lammps_wall_modulus:
-    """Regression case: LAMMPS fix wall/gran hertz/material uses E/(2(1-nu)), not E/(2(1-nu^2))."""
+    """Regression case in one LAMMPS build: fix wall/gran hertz/material uses E/(2(1-nu)) in
+    the 2021 build, E/(2(1-nu^2)) (right) in 2025."""
     input: "cases/decks/lammps/sphere_plane.in"
-    output: csv="results/lammps/wall_modulus.csv", runs=directory("results/lammps/wall_modulus")
-    log: "logs/lammps_wall_modulus.log"
-    params: poisson=0.3
+    output: csv="results/lammps/{lammps_build}/wall_modulus.csv",
+            runs=directory("results/lammps/{lammps_build}/wall_modulus")
+    log: "logs/lammps_wall_modulus/{lammps_build}.log"
+    params: poisson=0.3, build=lambda w: build_params(w.lammps_build)
     script: "../scripts/lammps_wall_modulus.py"
+
+
+rule lammps_regressions:
+    """The regression cases of every LAMMPS build in one table: build x case -> error."""
+    input: expand("results/lammps/{lammps_build}/wall_modulus.csv", lammps_build=LAMMPS_BUILDS)
+    output: "results/lammps/wall_modulus.csv"
+    log: "logs/lammps_regressions.log"
+    script: "../scripts/lammps_regressions.py"

@@ -11,18 +11,18 @@ rule plan:
 
 
 rule run_engine:
-    """Every run of one case in one engine process: one dump per run in runs/, and the manifest
+    """Every run of one case in one process of one engine build: one dump per run in runs/, and the manifest
     (dumps with sha256, failed runs)."""
     input:
         plan="results/{case}/plan.json",
         case=lambda w: CASES[w.case],
-        decks=lambda w: DECKS[w.engine],
+        decks=lambda w: DECKS[BUILDS[w.build].code],
     output:
-        manifest="results/{case}/{engine}/manifest.json",
-        runs=directory("results/{case}/{engine}/runs"),
-    log: "logs/{case}/{engine}.log"
-    benchmark: "benchmarks/{case}/{engine}.tsv"
-    params: settings=SETTINGS
+        manifest="results/{case}/{build}/manifest.json",
+        runs=directory("results/{case}/{build}/runs"),
+    log: "logs/{case}/{build}.log"
+    benchmark: "benchmarks/{case}/{build}.tsv"
+    params: settings=SETTINGS, build=lambda w: build_params(w.build)
     threads: 1
     resources: runtime=30, mem_mb=2000
     script: "../scripts/run_engine.py"
@@ -32,8 +32,8 @@ rule case_summary:
     """The case's runs beside the reference solver and the paper's series (dumps verified)."""
     input:
         plan="results/{case}/plan.json",
-        manifests=expand("results/{{case}}/{engine}/manifest.json", engine=ENGINES),
-        runs=expand("results/{{case}}/{engine}/runs", engine=ENGINES),
+        manifests=expand("results/{{case}}/{build}/manifest.json", build=BUILD_IDS),
+        runs=expand("results/{{case}}/{build}/runs", build=BUILD_IDS),
     output: "results/{case}/summary.csv"
     log: "logs/{case}/summary.log"
     resources: runtime=10, mem_mb=2000

@@ -27,13 +27,13 @@ rule paper_figure_3:
 
 
 rule paper_energy_runs:
-    """The DEM runs of Fig. 4, in the first configured engine."""
-    input: case=config["paper"]["energy"]["case"], decks=DECKS[ENGINES[0]]
+    """The DEM runs of Fig. 4, in the first configured build."""
+    input: case=config["paper"]["energy"]["case"], decks=DECKS[BUILDS[BUILD_IDS[0]].code]
     output:
         manifest="results/paper/energy_runs/manifest.json",
         runs=directory("results/paper/energy_runs/runs"),
     log: "logs/paper/energy_runs.log"
-    params: energy=config["paper"]["energy"], engine=ENGINES[0], time_step_factor=config["time_step_factor"],
+    params: energy=config["paper"]["energy"], build=build_params(BUILD_IDS[0]), time_step_factor=config["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"]
     script: "../scripts/paper_energy_runs.py"
 

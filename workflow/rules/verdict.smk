@@ -17,7 +17,7 @@ EXTRA_REPORT_INPUTS = {
        if "paper" in EXTRAS else {}),
     **({"calibration": "results/calibration/report.md"} if "calibration" in EXTRAS else {}),
     **({"lammps_wall": "results/lammps/wall_modulus.csv"}
-       if "lammps_wall_modulus" in EXTRAS and "lammps" in ENGINES else {}),
+       if "lammps_wall_modulus" in EXTRAS and LAMMPS_BUILDS else {}),
 }
 
 
@@ -27,7 +27,7 @@ rule report:
         summary="results/summary.csv",
         series="results/reference/series.csv",
         reference="results/reference/collisions.csv",
-        manifests=expand("results/{case}/{engine}/manifest.json", case=CASES, engine=ENGINES),
+        manifests=expand("results/{case}/{build}/manifest.json", case=CASES, build=BUILD_IDS),
         plans=expand("results/{case}/plan.json", case=CASES),
         **EXTRA_REPORT_INPUTS,
     output:
@@ -37,7 +37,7 @@ rule report:
         junit="results/junit.xml",
         verdict="results/verdict.json",
     log: "logs/report.log"
-    params: tolerance=config["tolerance"]
+    params: tolerance=config["tolerance"], builds={b: build_params(b) for b in BUILD_IDS}
     script: "../scripts/report.py"
 
 
@@ -55,7 +55,7 @@ rule case_verdict:
     input:
         summary="results/{case}/summary.csv",
         plan="results/{case}/plan.json",
-        manifests=expand("results/{{case}}/{engine}/manifest.json", engine=ENGINES),
+        manifests=expand("results/{{case}}/{build}/manifest.json", build=BUILD_IDS),
     output:
         checks="results/{case}/checks.csv",
         junit="results/{case}/junit.xml",

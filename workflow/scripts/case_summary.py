@@ -28,7 +28,7 @@ for path, meta, _, m in loaded:
         rows.append({**row, "run": Path(path).stem, "dump": os.path.relpath(path, results)})
 # With no dump at all (every run failed) the table still has its columns: the gate then fails
 # every planned check by name instead of the summary rule failing on an empty file.
-table = pd.DataFrame(rows) if rows else pd.DataFrame(columns=["case", "engine", "engine_version", "law", "geometry",
+table = pd.DataFrame(rows) if rows else pd.DataFrame(columns=["case", "build", "engine", "engine_version", "law", "geometry",
                                                                "criterion", "V", "K", "err_T", "err_A", "err_eps",
                                                                "run", "dump"])
 table.to_csv(snakemake.output[0], index=False, float_format="%.12g")

@@ -11,7 +11,7 @@ log = log_to(snakemake.log[0])
 comparison = pd.read_csv(snakemake.input[0])
 regressions = comparison[comparison.status == "regression"]
 if len(regressions):
-    names = [" ".join(str(r[k]) for k in ("engine", "law", "geometry", "criterion", "quantity")) +
+    names = [" ".join(str(r[k]) for k in ("build", "law", "geometry", "criterion", "quantity")) +
              f": {r['baseline_error']:.3e} -> {r['candidate_error']:.3e}" for r in regressions.to_dict("records")]
     message = f"{len(regressions)} regressions against the baseline (results/compare/compare.md):\n  " + "\n  ".join(names)
     log.error(message)

@@ -18,25 +18,24 @@ rows = []
 for manifest in snakemake.input.manifests:
     for _, meta, _, m in manifest_dumps(manifest):
         for r in comparison_rows(meta, m):
-            rows.append({k: r[k] for k in ("engine", "geometry", "criterion", "K", "err_T", "err_A", "err_eps")}
+            rows.append({k: r[k] for k in ("build", "engine", "geometry", "criterion", "K", "err_T", "err_A", "err_eps")}
                         | {"K": round(meta["K"], 12), "time_step_factor": meta["time_step_factor"]})
 errors = pd.DataFrame(rows)
 errors.to_csv(snakemake.output.errors, index=False, float_format="%.6g")
 table = convergence_table(errors, snakemake.params.tolerance)
 table.to_csv(snakemake.output.orders, index=False, float_format="%.4g")
 
-engines = sorted(errors.engine.unique())
 Ks = sorted(errors.K.unique())
 fig, axes = plt.subplots(len(Ks), 3, figsize=(15, 3.6 * len(Ks)), squeeze=False)
 styles = {"sphere-sphere": "-", "sphere-plane": "--"}
 for i, K in enumerate(Ks):
     for j, q in enumerate(("T", "A", "eps")):
         ax = axes[i, j]
-        for (engine, geometry, criterion), g in errors[errors.K == K].groupby(["engine", "geometry", "criterion"]):
+        for (build, geometry, criterion), g in errors[errors.K == K].groupby(["build", "geometry", "criterion"]):
             g = g.sort_values("time_step_factor")
             ax.loglog(1.0 / g.time_step_factor, np.abs(g[f"err_{q}"]).clip(lower=1e-13),
                       styles[geometry], marker="o" if criterion == "x0" else "s", ms=4,
-                      label=f"{engine}, {geometry}, {criterion}")
+                      label=f"{build}, {geometry}, {criterion}")
         ax.axhline(snakemake.params.tolerance[q], color="k", ls=":")
         ax.set_title(f"K = {K:g}: |{q} error|")
         ax.set_xlabel("dt / T_e")

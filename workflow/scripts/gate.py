@@ -21,6 +21,6 @@ if not verdict["pass"]:
                f"{snakemake.params.report}):\n  " + "\n  ".join(verdict["failures"]))
     log.error(message)
     sys.exit(message)
-write_atomically(snakemake.output[0], f"PASS: {verdict['checked']} engine x law x geometry x criterion x quantity "
+write_atomically(snakemake.output[0], f"PASS: {verdict['checked']} engine build x law x geometry x criterion x quantity "
                                       f"checks within tolerance (summary sha256 {summary_sha})\n")
 log.info("PASS")

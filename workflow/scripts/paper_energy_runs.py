@@ -3,15 +3,16 @@
 from common import start_rule
 from contact_model import load_case
 from engines import run_sweep
+from engines.builds import Build
 from engines.plan import plan_at_velocity
 from postprocess.run_manifest import write_manifest
 
 log = start_rule(snakemake)
 e = snakemake.params.energy
-engine = snakemake.params.engine
-runs = plan_at_velocity(load_case(snakemake.input.case), engine, e["K"], [snakemake.params.time_step_factor],
-                        e["velocity"], "energy")
-sweep = run_sweep(engine, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s).raise_first()
-write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs], engine=engine,
+build = Build(**snakemake.params.build)
+runs = plan_at_velocity(load_case(snakemake.input.case), build.code, e["K"], [snakemake.params.time_step_factor],
+                        e["velocity"], "energy", build=build.id)
+sweep = run_sweep(build, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s).raise_first()
+write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs], build=build.id, engine=build.code,
                engine_seconds=sweep.engine_seconds)
 log.info("%d runs", len(runs))

@@ -10,7 +10,7 @@ from engines.plan import plan_listing, plan_runs
 log = start_rule(snakemake)
 s = snakemake.params.settings
 case = load_case(snakemake.input.case)
-plan = plan_runs(case, s["engines"], s["laws"], s["K_grid"], s["time_step_factor"], s["default_law_match_K"],
+plan = plan_runs(case, s["builds"], s["laws"], s["K_grid"], s["time_step_factor"], s["default_law_match_K"],
                  s["max_overlap_ratio"])
 with open(snakemake.output[0], "w") as f:
     json.dump(plan_listing(case, plan), f, indent=1)

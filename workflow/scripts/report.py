@@ -22,7 +22,8 @@ series = pd.read_csv(snakemake.input.series)
 manifests = [read_manifest(m) for m in snakemake.input.manifests]
 plans = [json.load(open(p)) for p in snakemake.input.plans]
 plan_runs = pd.DataFrame([{"case": p["case"], **r} for p in plans for r in p["runs"]])
-failed_runs = [{"case": m["case"], "engine": m["engine"], **f} for m in manifests for f in m["failed"]]
+failed_runs = [{"case": m["case"], "build": m.get("build", m["engine"]), "engine": m["engine"], **f}
+               for m in manifests for f in m["failed"]]
 checks = gate_checks(table, plan_runs, pd.DataFrame(failed_runs), tolerance)
 verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
 timing = {"engine jobs": len(manifests),

