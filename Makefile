@@ -23,7 +23,7 @@ study: engines lammps-2025 venv
 test: engines lammps-2025 venv
 	$(PY) -m pytest -n $(JOBS) --dist loadgroup
 
-bench: engines venv
+bench: engines lammps-2025 venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
 	$(PY) -m benchmarks.study
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.calibration_coverage
