@@ -67,7 +67,7 @@ def run(target) -> tuple[float, int, int]:
     """(wall seconds, peak tree PSS, peak tree RSS [bytes]) of one `snakemake -j2 --forceall target`."""
     t0 = time.perf_counter()
     run.started = time.time()
-    proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "--forceall", *target],
+    proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "--forceall", "--rerun-incomplete", *target],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     peak_pss = peak_rss = 0
     while proc.poll() is None:
