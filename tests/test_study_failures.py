@@ -21,6 +21,7 @@ import pandas as pd
 import pytest
 
 from engine_cases import require_engine
+from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = """name: steel
@@ -58,17 +59,7 @@ sys.exit(rc)
 @pytest.fixture
 def project(tmp_path):
     require_engine("lmp", "lammps")
-    root = tmp_path / "study"
-    root.mkdir()
-    for item in ("Snakefile", "config", "workflow"):
-        src = ROOT / item
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, root / item)
-    (root / "cases").mkdir()
-    shutil.copytree(ROOT / "cases" / "decks", root / "cases" / "decks")
-    (root / "cases" / "steel.yaml").write_text(CASE)
-    if (ROOT / ".venv-lammps").exists():  # the default config's lammps-2025 build, relative to the project
-        (root / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
-    return root
+    return copy_workflow(tmp_path / "study", CASE)
 
 
 def faulty_lammps(tmp_path, mode) -> dict:

