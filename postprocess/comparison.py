@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from reference import HERTZ_TAU, paper_series_value, solve_collisions
 from reference.series import load_paper_series
 
@@ -73,19 +71,3 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
             row["matched_restitution"] = meta["matched_restitution"]
         rows.append(row)
     return rows
-
-
-def largest_errors(table, quantities=("T", "A", "eps")):
-    """Largest |relative error| per engine x law x geometry x criterion x quantity (a DataFrame
-    with columns engine, law, geometry, criterion, quantity, max_abs_error, at_K, case)."""
-    import pandas as pd
-
-    out = []
-    for keys, group in table.groupby(["engine", "law", "geometry", "criterion"], sort=True):
-        for q in quantities:
-            errors = np.abs(group[f"err_{q}"].to_numpy())
-            i = int(np.argmax(errors))
-            out.append({**dict(zip(["engine", "law", "geometry", "criterion"], keys)), "quantity": q,
-                        "max_abs_error": float(errors[i]), "at_K": float(group["K"].iloc[i]),
-                        "case": group["case"].iloc[i]})
-    return pd.DataFrame(out)
