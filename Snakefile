@@ -49,8 +49,10 @@ from contact_model import load_case  # noqa: E402
 from engines.plan import plan_runs  # noqa: E402
 
 EXTRAS = config["extras"]
-DECKS = {"liggghts": sorted(glob.glob("cases/decks/liggghts/*.in")), "yade": ["cases/decks/yade/collisions.py"],
-         "lammps": sorted(glob.glob("cases/decks/lammps/*.in"))}
+from engines.codes import CODES  # noqa: E402
+
+# The deck files of each engine code (engines.codes): a change reruns that code's jobs.
+DECKS = {name: sorted(f for pattern in c.decks for f in glob.glob(pattern)) for name, c in CODES.items()}
 
 
 rule all:

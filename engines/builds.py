@@ -2,8 +2,8 @@
 
 A build is an id (`lammps-2021`), a code (`liggghts`, `yade`, `lammps`: which driver runs it)
 and an executable (a path, or a name on PATH; a relative path is relative to the project
-folder). Adding a build is one config entry: nothing about a build is known outside this
-module's install hints and the code's driver.
+folder). Adding a build is one config entry: what is known about a code (its version banner,
+where it comes from) is its entry in `engines.codes`.
 
 `check_build` asks the executable for its version before any job starts and refuses, with the
 build named and what to do, an executable that is missing, that is another engine, or that
@@ -20,16 +20,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .engine_process import line_buffered, run_logged
-from .errors import INSTALL_HINT
-from .run_spec import ENGINES
+from .codes import CODES
 
 #: Time limit of a version query [s]: the engine only starts and reads an empty input (~0.4 s).
 VERSION_TIMEOUT_S = 60.0
-#: The version banner of each code: the first line of its output that matches.
-BANNER = {"liggghts": re.compile(r"^LIGGGHTS \(.*$", re.M), "lammps": re.compile(r"^LAMMPS \(.*$", re.M),
-          "yade": re.compile(r"^Yade version: .*$", re.M)}
-#: How a code's version is asked for: the arguments after the executable (stdin is empty).
-VERSION_ARGS = {"liggghts": ["-log", "none"], "lammps": ["-log", "none"], "yade": ["--version"]}
 ID_PATTERN = re.compile(r"[a-z][a-z0-9_.-]*")
 
 
@@ -47,8 +41,8 @@ class Build:
     executable: str
 
     def __post_init__(self):
-        if self.code not in ENGINES:
-            raise BuildError(f"build {self.id!r}: unknown code {self.code!r}; known: {', '.join(ENGINES)}")
+        if self.code not in CODES:
+            raise BuildError(f"build {self.id!r}: unknown code {self.code!r}; known: {', '.join(CODES)}")
         if not ID_PATTERN.fullmatch(self.id):
             raise BuildError(f"build id {self.id!r}: use lower-case letters, digits and . _ -, starting with a letter")
 
@@ -75,7 +69,7 @@ def query_version(executable: str, code: str, timeout_s: float = VERSION_TIMEOUT
     """What the executable prints when asked for its version the way `code` is (empty input)."""
     with tempfile.TemporaryDirectory() as scratch:  # LIGGGHTS writes log.liggghts before reading -log
         out = Path(scratch) / "version.txt"
-        done = run_logged(line_buffered([executable, *VERSION_ARGS[code]]), out, timeout_s, cwd=scratch)
+        done = run_logged(line_buffered([executable, *CODES[code].version_args]), out, timeout_s, cwd=scratch)
         text = out.read_text(errors="replace")
     if done.timed_out:
         raise TimeoutError(f"did not exit within {timeout_s:g} s when asked for its version")
@@ -89,21 +83,21 @@ def check_build(build: Build, timeout_s: float = VERSION_TIMEOUT_S) -> str:
     if exe is None:
         where = "does not exist" if os.sep in build.executable else "is not on PATH"
         raise BuildError(f"build {build.id!r} ({build.code}): the executable {build.executable!r} {where}; "
-                         f"{INSTALL_HINT[build.code]}, or point the build's `executable` at your own build")
+                         f"{CODES[build.code].install_hint}, or point the build's `executable` at your own build")
     try:
         text = query_version(exe, build.code, timeout_s)
     except (OSError, TimeoutError) as err:
         raise BuildError(f"build {build.id!r} ({build.code}): {exe} cannot report its version ({err}); "
                          f"check that it is a {build.code} executable") from err
-    banner = BANNER[build.code].search(text)
+    banner = CODES[build.code].banner.search(text)
     if banner:
         return banner.group(0).strip()
-    others = [code for code, pattern in BANNER.items() if code != build.code and pattern.search(text)]
+    others = [name for name, c in CODES.items() if name != build.code and c.banner.search(text)]
     if others:
         raise BuildError(f"build {build.id!r}: {exe} is not {build.code}, its version banner says "
-                         f"{BANNER[others[0]].search(text).group(0).strip()!r}; set the build's code to "
+                         f"{CODES[others[0]].banner.search(text).group(0).strip()!r}; set the build's code to "
                          f"{others[0]!r} or point its executable at a {build.code} build")
     tail = " | ".join(text.strip().splitlines()[-3:]) or "nothing"
     raise BuildError(f"build {build.id!r} ({build.code}): {exe} cannot report its version (no line matching "
-                     f"{BANNER[build.code].pattern!r}; it printed: {tail}); check that it is a {build.code} "
+                     f"{CODES[build.code].banner.pattern!r}; it printed: {tail}); check that it is a {build.code} "
                      "executable that starts")

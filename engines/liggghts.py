@@ -15,6 +15,7 @@ from .script_engine import ScriptEngine, common_variables, number
 DECK_OF_GEOMETRY = {"sphere-sphere": "two_spheres.in", "sphere-plane": "sphere_plane.in"}
 PROPERTIES_OF_LAW = {"viscoelastic": "properties_viscoelastic.in",
                      "viscoelastic_clipped": "properties_viscoelastic.in",
+                     "elastic": "properties_viscoelastic.in",  # with gamman = 0 (the pair's eta is 0)
                      "default": "properties_default.in"}
 
 

@@ -5,6 +5,7 @@ own, or those that give the study's K grid in that geometry):
 
 - the viscoelastic law (tail kept: criteria x0 and F0 from one trajectory) in every engine;
 - optionally the clipped viscoelastic law (criterion F0: the engines' own way of separating);
+- optionally the elastic law (eta = 0, at the same velocities: Hertz alone, exact);
 - optionally each engine's out-of-the-box law, its restitution matched once, at `match_K`,
   to the reference eps under the criterion that engine's default stands for; the same setting
   then runs at every velocity of the sweep, which shows how far it drifts.
@@ -13,6 +14,9 @@ A velocity whose Hertz overlap delta_e exceeds `max_overlap_ratio` R* is not run
 reason recorded: there the contact radius is no longer small against R* (Hertz's premise), and
 the engines' contact geometry breaks down as delta approaches the radius (a sphere's centre
 would cross the plane). It takes km/s impacts for the stiff materials at large K.
+
+A law a build's code cannot express (`engines.codes`, ``unavailable``) is not run in that build;
+the plan lists the cell (build, law, geometry) with the reason, for the report.
 
 A case the engines cannot run honestly is refused here, before any engine starts, with a
 `PlanError` (a `CaseError`: it names the case file and the field):
@@ -33,6 +37,7 @@ from dataclasses import dataclass, field
 from contact_model import Case, CaseError
 from reference import solve_collision, solve_collisions
 
+from .codes import law_unavailable
 from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, LAWS, RunSpec
 
 #: Unit round-off of an IEEE double: a stored number is off by at most this, relatively.
@@ -56,7 +61,10 @@ ROUNDOFF_LIMIT = 5e-5
 
 
 class PlanError(CaseError):
-    """A case the engines cannot run honestly; the message names the case file and the field."""
+    """A law a build's code cannot express (`engines.codes`, ``unavailable``) is not run in that build;
+the plan lists the cell (build, law, geometry) with the reason, for the report.
+
+A case the engines cannot run honestly; the message names the case file and the field."""
 
 
 def roundoff_error(spec: RunSpec) -> float:
@@ -139,6 +147,8 @@ class Plan:
 
     runs: list[RunSpec] = field(default_factory=list)
     skipped: list[dict] = field(default_factory=list)
+    #: (build, law, geometry) cells a build's code cannot express, with the reason (engines.codes).
+    not_available: list[dict] = field(default_factory=list)
 
 
 def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3, 0.5),
@@ -182,18 +192,29 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     # (RunSpec.reference), and plan.json hands it on to the engine jobs and the summary.
     keys = [(pair.geometry, v) for pair in case.pairs for v in allowed[pair.geometry]]
     Ks = [case.pair(g).dissipation_parameter(v) for g, v in keys]
-    reference = dict(zip(keys, solve_collisions(Ks).rows()))
+    solved = solve_collisions([*Ks, 0.0]).rows()
+    reference, elastic = dict(zip(keys, solved[:-1])), solved[-1]
     builds = build_codes(engines)
-    matched = {code: matched_restitution(code, match_K) for code in set(builds.values())} if "default" in laws else {}
+    matched = ({code: matched_restitution(code, match_K) for code in set(builds.values())
+                if law_unavailable(code, "default") is None} if "default" in laws else {})
     for build, engine in builds.items():
         for pair in case.pairs:
             for law in laws:
-                if law != "viscoelastic" and pair.eta == 0:
-                    continue  # an elastic contact never pulls (nothing to clip) and has no restitution to match
+                if pair.eta == 0 and law != "elastic":
+                    continue  # an elastic contact: the law 'elastic' is all there is to run
+                reason = law_unavailable(engine, law)
+                if reason is not None:
+                    plan.not_available.append({"build": build, "engine": engine, "law": law,
+                                               "geometry": pair.geometry, "reason": reason})
+                    continue
                 e = matched[engine] if law == "default" else None
                 plan.runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e,
-                                      reference=reference[(pair.geometry, v)], build=build)
+                                      reference=elastic if law == "elastic" else reference[(pair.geometry, v)],
+                                      build=build)
                               for v in allowed[pair.geometry]]
+    if not plan.runs:
+        raise PlanError(case.path, "viscosity" if all(p.eta == 0 for p in case.pairs) else "laws",
+                        f"nothing to run with the laws {', '.join(laws)} in the builds {', '.join(builds)}")
     return plan
 
 
@@ -205,7 +226,7 @@ def plan_listing(case: Case, plan: Plan) -> dict:
                       "time_step_factor": r.time_step_factor, "time_step": r.time_step, "steps": r.steps(),
                       "matched_restitution": r.matched_restitution, "reference": r.reference}
                      for r in plan.runs],
-            "not_run": plan.skipped}
+            "not_run": plan.skipped, "not_available": plan.not_available}
 
 
 def runs_from_listing(case: Case, listing: dict, build: str) -> list[RunSpec]:

@@ -10,6 +10,10 @@ Contact laws:
   gives both criteria.
 - ``viscoelastic_clipped``: the same force clipped at zero (the bodies separate where the force
   vanishes: F0 physics). Represents criterion F0 only.
+- ``elastic``: the same contact with eta = 0, Hertz alone (K = 0: T, A and eps = 1 are known
+  exactly). Every code can express it, so it is the one law gated in every engine, including
+  those that cannot express the viscoelastic force (`engines.codes`, ``unavailable``). The
+  trajectory has no tail, so x0 and F0 coincide; it stands for x0.
 - ``default``: what a user gets out of the box (LIGGGHTS ``model hertz``, YADE Hertz-Mindlin with
   its restitution-coefficient damping, LAMMPS ``damping tsuji``), its restitution set to the
   viscoelastic reference eps at one velocity (`engines.plan`, ``default_law_match_K``), under the
@@ -20,18 +24,19 @@ Contact laws:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from contact_model import ContactPair
 from reference import HERTZ_TAU, solve_collision
 
-LAWS = ("viscoelastic", "viscoelastic_clipped", "default")
+from .codes import CODES
+
+LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic", "default")
 #: The laws the study validates against tolerances (the model under test); 'default' is compared only.
-GATED_LAWS = ("viscoelastic", "viscoelastic_clipped")
-ENGINES = ("liggghts", "yade", "lammps")
-#: The criterion an engine's default law stands for: LIGGGHTS and LAMMPS keep the attractive
-#: tail (limitForce off, no limit_damping by default), YADE's Hertz-Mindlin clips the force.
-DEFAULT_LAW_CRITERION = {"liggghts": "x0", "yade": "F0", "lammps": "x0"}
+GATED_LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic")
+ENGINES = tuple(CODES)
+#: The criterion each engine's default law stands for (engines.codes: whether it keeps the tail).
+DEFAULT_LAW_CRITERION = {name: c.default_criterion for name, c in CODES.items()}
 
 #: Steps of free flight before contact and after separation.
 GAP_STEPS = 20
@@ -66,6 +71,8 @@ class RunSpec:
             raise ValueError(f"unknown contact law {self.law!r}; known: {LAWS}")
         if not (self.velocity > 0 and math.isfinite(self.velocity)):
             raise ValueError(f"impact velocity must be positive, got {self.velocity}")
+        if self.law == "elastic" and self.pair.eta != 0:
+            object.__setattr__(self, "pair", replace(self.pair, eta=0.0))  # Hertz alone
         if self.law == "default" and self.matched_restitution is None:
             raise ValueError("law 'default' needs the restitution coefficient it is matched to")
 
@@ -88,6 +95,8 @@ class RunSpec:
             return ("x0", "F0")  # the tail is kept: one trajectory, both ends
         if self.law == "viscoelastic_clipped":
             return ("F0",)
+        if self.law == "elastic":
+            return ("x0",)  # no tail: x0 and F0 coincide
         return (DEFAULT_LAW_CRITERION[self.engine],)
 
     @property

@@ -6,6 +6,7 @@ The engines are the installed ones, run through a wrapper script (the runners' `
 that writes its pid (the process group: the runners start a new session) and makes the real
 engine hang or crash in the second of three runs."""
 
+import dataclasses
 import shutil
 import stat
 import time
@@ -15,7 +16,9 @@ import pytest
 
 from engine_cases import VELOCITY, require_engine, steel_pair
 from engines import RunSpec, engine_process, yade
-from engines.engine_process import EngineCost, time_limit
+from engines import codes
+from engines.codes import EngineCost
+from engines.engine_process import time_limit
 from engines.lammps import run_lammps
 from engines.liggghts import run_liggghts
 
@@ -108,7 +111,8 @@ def assert_stopped_in_second_run(sweep, specs, workdir: Path, engine: str, build
 @pytest.fixture
 def no_expected_cost(monkeypatch):
     """Make the time limit the floor, so that a hung engine is killed after a few seconds."""
-    monkeypatch.setattr(engine_process, "COST", {e: EngineCost(0.0, 0.0, 0.0) for e in engine_process.COST})
+    for name, c in list(codes.CODES.items()):
+        monkeypatch.setitem(codes.CODES, name, dataclasses.replace(c, cost=EngineCost(0.0, 0.0, 0.0)))
 
 
 @pytest.mark.parametrize("engine", sorted(SCRIPT_ENGINES))
@@ -186,7 +190,7 @@ def test_time_limit_scales_with_the_sweep_above_the_floor():
     extra_steps = sum(s.steps() for s in longer) - sum(s.steps() for s in specs)
     assert extra_steps > 100_000
     assert time_limit("liggghts", longer, floor_s=1.0) - small == pytest.approx(
-        engine_process.SAFETY_FACTOR * engine_process.COST["liggghts"].per_step_s * extra_steps)
+        engine_process.SAFETY_FACTOR * codes.CODES["liggghts"].cost.per_step_s * extra_steps)
     assert time_limit("yade", [s.__class__(CASE, "yade", s.law, s.pair, VELOCITY) for s in specs], 1.0) > small
     with pytest.raises(ValueError, match="positive"):
         time_limit("lammps", specs, floor_s=0.0)

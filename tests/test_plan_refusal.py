@@ -85,7 +85,7 @@ def test_plan_listing_hands_on_runs_and_their_reference_and_refuses_a_stale_plan
     monkeypatch.setattr("engines.run_spec.solve_collision", lambda K: pytest.fail("solved again"))
     runs = runs_from_listing(case, listing, "yade")
     assert [r.name for r in runs] == [e["name"] for e in listing["runs"] if e["engine"] == "yade"]
-    assert len(runs) == 2 * 2 * 3  # geometries x K x laws
+    assert len(runs) == 2 * 2 * 4  # geometries x K x laws (viscoelastic, clipped, elastic, default)
     for r in runs:
         assert r.steps() == next(e["steps"] for e in listing["runs"] if e["name"] == r.name)
         assert r.reference == plan_module.solve_collisions([r.K]).row(0)  # the plan's batch, bit for bit
@@ -93,3 +93,28 @@ def test_plan_listing_hands_on_runs_and_their_reference_and_refuses_a_stale_plan
     path.write_text(path.read_text().replace("7800 kg/m^3", "7850 kg/m^3"))
     with pytest.raises(ValueError, match=r"the plan is stale: rerun the study"):
         runs_from_listing(load_case(path), listing, "yade")
+
+
+def test_elastic_law_runs_hertz_alone_and_unavailable_laws_are_listed_with_their_reason(tmp_path, monkeypatch):
+    import dataclasses
+
+    from engines import codes
+
+    path, _ = plan(tmp_path, "impact: {K: [0.1, 0.2]}")
+    case = load_case(path)
+    reason = "this engine damps with a restitution-coefficient law"
+    monkeypatch.setitem(codes.CODES, "yade", dataclasses.replace(
+        codes.CODES["yade"], unavailable={"viscoelastic": reason, "viscoelastic_clipped": reason}))
+    p = plan_runs(case, ["lammps", "yade"])
+    elastic = [r for r in p.runs if r.law == "elastic"]
+    assert len(elastic) == 2 * 2 * 2  # builds x geometries x velocities
+    for r in elastic:
+        assert r.pair.eta == 0 and r.K == 0 and r.represents == ("x0",)
+        assert r.reference["eps_x0"] == pytest.approx(1.0, abs=1e-15)
+        assert r.reference["tau_0"] == pytest.approx(2.9432751843247, rel=1e-13)  # Hertz: 2 * 1.4716...
+        # the same velocities as the viscoelastic runs of its geometry
+        assert r.velocity in {v.velocity for v in p.runs if v.law == "viscoelastic" and v.pair.geometry == r.pair.geometry}
+    assert {(r.build, r.law) for r in p.runs if r.build == "yade"} == {("yade", "elastic"), ("yade", "default")}
+    assert sorted((n["build"], n["law"], n["geometry"]) for n in p.not_available) == [
+        ("yade", law, g) for law in ("viscoelastic", "viscoelastic_clipped") for g in ("sphere-plane", "sphere-sphere")]
+    assert all(n["reason"] == reason for n in p.not_available)

