@@ -59,6 +59,9 @@ class EngineCode:
         Measured process costs, rounded up about twice (`engines.engine_process.time_limit`).
     unavailable : dict
         {law: reason} for the laws this code cannot express.
+    notes : tuple of str
+        What a reader of the report must know about how the code runs the study (e.g. how a
+        geometry it has no element for is represented); printed under the engines' table.
     """
 
     name: str
@@ -70,6 +73,7 @@ class EngineCode:
     decks: tuple[str, ...]
     cost: EngineCost
     unavailable: dict[str, str] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
 
     def runner(self):
         """The sweep runner (imported on first use: drivers import numpy and the post-processing)."""
