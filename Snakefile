@@ -63,6 +63,7 @@ rule all:
         "results/junit.xml",
         "results/summary.csv",
         "results/reference/collisions.csv",
+        lambda w: build_pair_comparisons(),  # workflow/rules/compare.smk (defined below)
 
 
 include: "workflow/rules/builds.smk"
@@ -71,6 +72,7 @@ include: "workflow/rules/engines.smk"
 include: "workflow/rules/verdict.smk"
 include: "workflow/rules/reference.smk"
 include: "workflow/rules/convergence.smk"
+include: "workflow/rules/regressions.smk"
 include: "workflow/rules/paper.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/compare.smk"

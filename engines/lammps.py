@@ -6,19 +6,28 @@ force, attractive tail kept. `limit_damping` clips the total force at zero (crit
 The out-of-the-box law is `hertz/material` with `damping tsuji`, whose coefficient is the
 restitution coefficient itself.
 
-Known defect of the 2021 version (fixed in 22 Jul 2025), kept as a regression case (`wall_modulus_regression`): fix
-wall/gran with `hertz/material E eta nu` uses E / (2 (1 - nu)) instead of E / (2 (1 - nu^2))
-(src/GRANULAR/fix_wall_gran.cpp), so the study always gives the wall an explicit `hertz` kn.
+Two defects of the 2021 version, both fixed in 22 Jul 2025, are kept as regression cases run in
+every LAMMPS build (`regression_cases`):
+
+- ``wall-modulus``: fix wall/gran with `hertz/material E eta nu` uses E / (2 (1 - nu)) instead of
+  E / (2 (1 - nu^2)) (src/GRANULAR/fix_wall_gran.cpp), so the study always gives the wall an
+  explicit `hertz` kn;
+- ``mixing``: with one `pair_coeff i i` line per atom type and the 1-2 contact left to mixing,
+  pair_style granular does not carry the normal and damping models into the mixed pair, so the
+  study gives every pair one `pair_coeff * *` line.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 from contact_model import Body, ContactPair
+from contact_model.collision_scales import viscosity_for_dissipation
 
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
+from .finish_run import Sweep
 from .run_spec import RunSpec
 from .script_engine import ScriptEngine, common_variables, number
 
@@ -26,8 +35,12 @@ DECK_OF_GEOMETRY = {"sphere-sphere": "two_spheres.in", "sphere-plane": "sphere_p
 TANGENTIAL = "tangential linear_nohistory 0 0"  # required by the granular styles; zero friction
 
 
+#: Regression runs that need a deck of their own, by their RunSpec label.
+DECK_OF_LABEL = {"per-type-coefficients": "two_spheres_two_types.in"}
+
+
 def deck_files(spec: RunSpec) -> list[str]:
-    return [DECK_OF_GEOMETRY[spec.pair.geometry]]
+    return [DECK_OF_LABEL.get(spec.label) or DECK_OF_GEOMETRY[spec.pair.geometry]]
 
 
 def model_words(spec: RunSpec) -> str:
@@ -65,22 +78,77 @@ def run_lammps(specs: list[RunSpec], workdir, executable: str = "lmp",
     return LAMMPS.run(specs, workdir, executable, timeout_floor_s=timeout_floor_s, **kw)
 
 
+@dataclass(frozen=True)
+class RegressionCase:
+    """A known LAMMPS defect as a run: `run` is the contact written the way a user would write it,
+    `control` the same contact written the way the study does (it must match the reference in
+    every build, or the case proves nothing). `defect` is the relative error in T the defect
+    gives, where it can be predicted (None: no closed form)."""
+
+    name: str
+    description: str
+    user_writes: str
+    run: RunSpec
+    control: RunSpec
+    overrides: dict
+    defect_err_T: float | None
+
+
+def regression_cases(build: str = "", young: float = 200e9, poisson: float = 0.3, radius: float = 0.005,
+                     density: float = 7800.0, velocity: float = 1.0, K: float = 0.1) -> list[RegressionCase]:
+    """The LAMMPS regression cases of build id `build`, steel-like spheres at `velocity` [m/s]:
+
+    - ``wall-modulus``: an elastic sphere on a plane of its own material (E* = Y / (2 (1 - nu^2))),
+      `hertz/material Y 0 nu` against an explicit `hertz` kn = 4/3 E*. A wall E* that is 1 + nu
+      times too large (the 2021 defect) gives T off by (1 + nu)^(-2/5) - 1 (Hertz: T ~ E*^{-2/5}).
+    - ``mixing``: two equal spheres, viscoelastic at dissipation parameter K, the model given per
+      atom type (`pair_coeff 1 1`, `pair_coeff 2 2`, the 1-2 pair mixed) against `pair_coeff * *`.
+    """
+    sphere = Body(radius, density, young, poisson)
+    wall = ContactPair.from_bodies(sphere, Body(math.inf, math.inf, young, poisson), 0.0)
+    elastic_pair = ContactPair.from_bodies(sphere, sphere, 0.0)
+    eta = viscosity_for_dissipation(elastic_pair.E, elastic_pair.R, elastic_pair.M, velocity, K)
+    pair = ContactPair(elastic_pair.geometry, sphere, sphere, elastic_pair.E, eta)
+
+    def spec(name, p, label=""):
+        return RunSpec(f"lammps-{name}", "lammps", "viscoelastic", p, velocity, label=label, build=build)
+
+    material = spec("wall-modulus", wall, "hertz-material")
+    words = f"hertz/material {number(young)} 0.0 {number(poisson)} damping viscoelastic {TANGENTIAL}"
+    mixed = spec("mixing", pair, "per-type-coefficients")
+    return [
+        RegressionCase("wall-modulus", "fix wall/gran hertz/material: the wall's E*",
+                       "fix wall/gran granular hertz/material E 0 nu", material, spec("wall-modulus", wall),
+                       {material.name: {"model": words}}, (1 + poisson) ** -0.4 - 1),
+        RegressionCase("mixing", "pair_style granular: the mixed 1-2 pair of per-type coefficients",
+                       "pair_coeff 1 1 hertz kn eta_n0 ...; pair_coeff 2 2 (the same)", mixed,
+                       spec("mixing", pair), {}, None),
+    ]
+
+
+def run_regression_cases(workdir, executable: str = "lmp", build: str = "",
+                         timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S):
+    """Every regression case in the LAMMPS `executable`, each (its control, then its run) in a
+    process of its own, so that a defect that crashes the engine (the 2021 build's mixed pair can
+    end in SIGSEGV) fails its own case only, in `workdir/<case>/`; returns (cases, sweep) with
+    every case's runs."""
+    cases = regression_cases(build)
+    sweep = Sweep()
+    for case in cases:
+        one = run_lammps([case.control, case.run], Path(workdir) / case.name, executable, overrides=case.overrides,
+                         timeout_floor_s=timeout_floor_s)
+        sweep.dumps.update(one.dumps)
+        sweep.failures.update(one.failures)
+        sweep.engine_seconds += one.engine_seconds
+    return cases, sweep
+
+
 def wall_modulus_regression(workdir, young: float = 200e9, poisson: float = 0.3, radius: float = 0.005,
                             density: float = 7800.0, velocity: float = 1.0, executable: str = "lmp",
                             build: str = ""):
-    """The wall `hertz/material` defect, measured: an elastic sphere on a plane of its own
-    material (E* = Y / (2 (1 - nu^2))), once with an explicit `hertz` kn = 4/3 E* and once with
-    `hertz/material Y 0 nu` as a user would write it, in the LAMMPS `executable` (build id
-    `build` in the run names). Returns ((explicit, material), sweep).
-
-    The 2021 build's wall gives the material run an error of (1 + nu)^(-2/5) - 1 in T (its wall
-    E* is 1 + nu times too large); a build with the fix gives 0."""
-    sphere = Body(radius, density, young, poisson)
-    pair = ContactPair.from_bodies(sphere, Body(math.inf, math.inf, young, poisson), 0.0)
-    spec = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity)
-    spec = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity, build=build)
-    material = RunSpec("lammps-wall-modulus", "lammps", "viscoelastic", pair, velocity, label="hertz-material",
-                       build=build)
-    words = f"hertz/material {number(young)} 0.0 {number(poisson)} damping viscoelastic {TANGENTIAL}"
-    overrides = {material.name: {"model": words}}
-    return (spec, material), run_lammps([spec, material], workdir, executable, overrides=overrides)
+    """The wall `hertz/material` case alone (see `regression_cases`): ((explicit, material), sweep).
+    The 2021 build's wall gives the material run an error of (1 + nu)^(-2/5) - 1 in T; a build
+    with the fix gives 0."""
+    (case, _) = regression_cases(build, young, poisson, radius, density, velocity)
+    sweep = run_lammps([case.control, case.run], workdir, executable, overrides=case.overrides)
+    return (case.control, case.run), sweep

@@ -1,6 +1,7 @@
 """Compare two studies, check by check: what a CI shows when an engine build changes.
 
     python -m postprocess.compare BASELINE CANDIDATE [--out DIR] [--factor 2] [--noise-floor 1e-9]
+                                  [--builds BASELINE_BUILD=CANDIDATE_BUILD]
 
 BASELINE and CANDIDATE are each a results folder (its checks.csv, written by the study's report
 rule, with the runs that failed) or a summary.csv (its checks are made here, from the runs it
@@ -12,7 +13,10 @@ holds, against --tolerance). For every engine build x law x geometry x criterion
                 e_b > factor * max(e_c, noise_floor)
     unchanged   otherwise;  new / removed: a check in one study only
 
-with e the largest |relative error| (engine vs reference). The noise floor keeps round-off-level
+with e the largest |relative error| (engine vs reference). Checks are matched by build id; with
+--builds, the baseline's build BASELINE_BUILD is matched with the candidate's CANDIDATE_BUILD
+(two builds of one code, e.g. Debian's LAMMPS against today's, in one study or in two), and the
+other builds are left out. The noise floor keeps round-off-level
 errors (1e-12 against 1e-11) from counting as a change. Writes compare.md, compare.html,
 compare.csv and compare-junit.xml (one test case per check, a <failure> for each regression) into
 --out, and exits 1 when there is a regression, 0 otherwise, 2 on unusable input.
@@ -65,6 +69,21 @@ def load_checks(path, tolerance: dict = DEFAULT_TOLERANCE) -> pd.DataFrame:
     planned = runs.groupby(["case", "run", "build", "engine", "law", "geometry"]).criterion.apply(list).reset_index()
     planned = planned.rename(columns={"run": "name", "criterion": "represents"})
     return gate_checks(runs, planned, pd.DataFrame(), tolerance)
+
+
+def pair_builds(baseline: pd.DataFrame, candidate: pd.DataFrame, baseline_build: str, candidate_build: str
+                ) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The checks of `baseline_build` in `baseline` and of `candidate_build` in `candidate`, both
+    under the build name 'BASELINE_BUILD -> CANDIDATE_BUILD', so that `compare_checks` matches
+    them; CompareError when either study has no check of its build."""
+    baseline, candidate = with_build(baseline), with_build(candidate)
+    for study, build, what in ((baseline, baseline_build, "baseline"), (candidate, candidate_build, "candidate")):
+        if not (study.build == build).any():
+            raise CompareError(f"the {what} study has no check of build {build!r}; its builds: "
+                               f"{', '.join(map(str, study.build.unique()))}")
+    name = f"{baseline_build} -> {candidate_build}"
+    return (baseline[baseline.build == baseline_build].assign(build=name),
+            candidate[candidate.build == candidate_build].assign(build=name))
 
 
 def compare_checks(baseline: pd.DataFrame, candidate: pd.DataFrame, factor: float = 2.0,
@@ -180,6 +199,9 @@ def main(argv=None) -> int:
                                                                  "compare-junit.xml (default: results/compare)")
     parser.add_argument("--factor", type=float, default=2.0, help="error growth that counts as a regression")
     parser.add_argument("--noise-floor", type=float, default=1e-9, help="errors below it count as it")
+    parser.add_argument("--builds", metavar="BASELINE_BUILD=CANDIDATE_BUILD",
+                        help="compare this build of the baseline with that build of the candidate (they may be one "
+                             "study), leaving the other builds out")
     parser.add_argument("--tolerance", type=float, nargs=3, metavar=("T", "A", "EPS"),
                         default=[DEFAULT_TOLERANCE[q] for q in GATED_QUANTITIES],
                         help="tolerances for a study given as a summary.csv")
@@ -189,6 +211,11 @@ def main(argv=None) -> int:
     tolerance = dict(zip(GATED_QUANTITIES, args.tolerance))
     try:
         base, cand = load_checks(args.baseline, tolerance), load_checks(args.candidate, tolerance)
+        if args.builds:
+            b, sep, c = args.builds.partition("=")
+            if not (sep and b and c):
+                raise CompareError(f"--builds {args.builds!r}: write it as BASELINE_BUILD=CANDIDATE_BUILD")
+            base, cand = pair_builds(base, cand, b, c)
     except CompareError as err:
         print(f"compare: {err}", file=sys.stderr)
         return 2

@@ -28,6 +28,10 @@ from .verdict_files import write_atomically
 
 GATED_QUANTITIES = ("T", "A", "eps")
 GROUP = ["build", "law", "geometry", "criterion"]
+#: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
+#: or is reported only (an engine's regression cases, `regression_checks`).
+CHECK_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "quantity", "planned", "landed", "failed",
+                 "max_abs_error", "at_K", "case", "tolerance", "pass", "reason", "gates"]
 
 
 def with_build(df: pd.DataFrame) -> pd.DataFrame:
@@ -118,9 +122,52 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
             row["pass"] = not reasons
             row["reason"] = "; ".join(reasons)
             rows.append(row)
-    columns = [GROUP[0], "engine", *GROUP[1:], "quantity", "planned", "landed", "failed", "max_abs_error", "at_K", "case", "tolerance",
-               "pass", "reason"]
-    return pd.DataFrame(rows, columns=columns)
+    return pd.DataFrame([{**r, "gates": True} for r in rows], columns=CHECK_COLUMNS)
+
+
+def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFrame:
+    """The checks of an engine code's regression cases (e.g. `engines.lammps.regression_cases`):
+    one per build x case x quantity, on the run written the way a user would write it.
+
+    They do not gate (``gates`` False): a known defect of a build is a finding about that build,
+    and it shows in the report and in `compare` (a fixed defect is a fix, a defect coming back a
+    regression) without failing the study. Their control runs, written the way the study writes
+    the contact, must pass, or the case proves nothing: a failing control fails its check.
+
+    Parameters
+    ----------
+    regressions : DataFrame
+        One row per build, case and role ('user', 'control'): build, case, geometry, K, run,
+        problem (why the run failed; empty when it landed), err_T, err_A, err_eps.
+    tolerance : dict
+        Relative tolerance per quantity.
+
+    Returns
+    -------
+    DataFrame with the columns of `gate_checks`: law is 'regression:<case>', criterion 'x0'.
+    """
+    rows = []
+    for (build, case), sel in regressions.groupby(["build", "case"], sort=False):
+        user = sel[sel.role == "user"].iloc[0]
+        control = sel[sel.role == "control"].iloc[0]
+        failed = isinstance(user.problem, str) and bool(user.problem)
+        for q in GATED_QUANTITIES:
+            error = abs(float(user[f"err_{q}"]))
+            reasons = []
+            if failed:
+                reasons.append(f"the run failed: {user.problem}")
+            elif not error <= tolerance[q]:
+                reasons.append(f"{error:.3e} > {tolerance[q]:g} (written as the user would: {user.run})")
+            control_error = abs(float(control[f"err_{q}"]))
+            if not control_error <= tolerance[q]:
+                why = control.problem if isinstance(control.problem, str) and control.problem else control.run
+                reasons.append(f"the control run (written as the study writes it) is off too: {control_error:.3e}; {why}")
+            rows.append({"build": build, "engine": "", "law": f"regression:{case}", "geometry": user.geometry,
+                         "criterion": "x0", "quantity": q, "planned": 1, "landed": 0 if failed else 1,
+                         "failed": 1 if failed else 0, "max_abs_error": error, "at_K": float(user.K),
+                         "case": f"regression:{case}", "tolerance": float(tolerance[q]), "pass": not reasons,
+                         "reason": "; ".join(reasons), "gates": False})
+    return pd.DataFrame(rows, columns=CHECK_COLUMNS)
 
 
 def _of_group(df: pd.DataFrame, key: tuple) -> pd.DataFrame:
@@ -138,8 +185,16 @@ def check_name(row) -> str:
     return f"{row['build']} {row['law']} {row['geometry']} {row['criterion']} {row['quantity']}"
 
 
+def gating(checks: pd.DataFrame) -> pd.DataFrame:
+    """The checks that decide the verdict (all of a checks table from before `gates` existed)."""
+    return checks[checks["gates"].astype(bool)] if "gates" in checks.columns else checks
+
+
 def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> dict:
-    """The verdict: PASS only when there are checks and every one passes."""
+    """The verdict: PASS only when there are gating checks and every one passes (the reported-only
+    checks, `regression_checks`, are listed under `reported`)."""
+    reported = checks[~checks["gates"].astype(bool)] if "gates" in checks.columns else checks.iloc[:0]
+    checks = gating(checks)
     failing = checks[~checks["pass"]]
     ok = len(checks) > 0 and failing.empty
     failures = [f"{check_name(r)}: {r['reason']}" for _, r in failing.iterrows()]
@@ -147,31 +202,39 @@ def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> di
         failures = ["no gated check was made: the plans hold no run of a gated law"]
     return {"verdict": "PASS" if ok else "FAIL", "pass": ok, "checked": int(len(checks)),
             "failed": int(len(failing)) if len(checks) else 0, "failures": failures,
-            "tolerance": {q: float(tolerance[q]) for q in GATED_QUANTITIES}, "summary_sha256": summary_sha256}
+            "tolerance": {q: float(tolerance[q]) for q in GATED_QUANTITIES}, "summary_sha256": summary_sha256,
+            "reported": [f"{check_name(r)}: {'pass' if r['pass'] else r['reason']}" for _, r in reported.iterrows()]}
 
 
 def junit_xml(checks: pd.DataFrame, suite: str = "hertz-dem-gate") -> ET.ElementTree:
     """JUnit XML: one <testcase> per check (classname 'build.law.geometry.criterion', name the
-    quantity), a <failure> with the reason where it failed."""
-    n_fail = int((~checks["pass"]).sum()) if len(checks) else 0
-    suites = ET.Element("testsuites", name=suite, tests=str(len(checks)), failures=str(n_fail), errors="0")
+    quantity), a <failure> with the reason where a gating check failed, and <skipped> with the
+    reason where a reported-only check (a build's known defect, `regression_checks`) failed."""
+    gates = checks["gates"].astype(bool) if "gates" in checks.columns else pd.Series(True, index=checks.index)
+    n_fail = int((~checks["pass"] & gates).sum()) if len(checks) else 0
+    n_skip = int((~checks["pass"] & ~gates).sum()) if len(checks) else 0
+    suites = ET.Element("testsuites", name=suite, tests=str(len(checks)), failures=str(n_fail), errors="0",
+                        skipped=str(n_skip))
     ts = ET.SubElement(suites, "testsuite", name=suite, tests=str(len(checks)), failures=str(n_fail), errors="0",
-                       skipped="0")
-    for _, r in checks.iterrows():
+                       skipped=str(n_skip))
+    for i, r in checks.iterrows():
         case = ET.SubElement(ts, "testcase", classname=".".join(str(r[k]) for k in GROUP), name=str(r["quantity"]),
                              time="0")
         measured = ("no result" if math.isnan(r["max_abs_error"]) else
                     f"max |relative error| {r['max_abs_error']:.3e} (tolerance {r['tolerance']:g}) at K = "
                     f"{r['at_K']:.4g}, case {r['case']}; {r['landed']} of {r['planned']} runs landed")
-        if not r["pass"]:
+        if not r["pass"] and not gates[i]:
+            ET.SubElement(case, "skipped", message=f"reported, not gated (a known defect of this build): {r['reason']}")
+        elif not r["pass"]:
             failure = ET.SubElement(case, "failure", message=r["reason"], type="tolerance" if r["failed"] == 0
                                     and r["landed"] == r["planned"] else "engine-run")
             failure.text = measured
         ET.SubElement(case, "system-out").text = measured
-    if not len(checks):
+    if not gates.any():
         case = ET.SubElement(ts, "testcase", classname="gate", name="any gated check", time="0")
         ET.SubElement(case, "failure", message="no gated check was made", type="empty")
-        suites.set("tests", "1"), ts.set("tests", "1"), suites.set("failures", "1"), ts.set("failures", "1")
+        for element in (suites, ts):
+            element.set("tests", str(len(checks) + 1)), element.set("failures", "1")
     ET.indent(suites)
     return ET.ElementTree(suites)
 

@@ -185,7 +185,7 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
 def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_dir: Path,
                  series_cmp: pd.DataFrame | None = None, timing: dict | None = None, not_run: list[dict] = (),
                  failed_runs: list[dict] = (), convergence: pd.DataFrame | None = None,
-                 lammps_wall: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
+                 regressions: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
                  table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None,
                  calibration: str | None = None, reference: pd.DataFrame | None = None) -> None:
     """Write report.md, report.html and the plots into out_dir.
@@ -270,8 +270,8 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                       ""]
     if convergence is not None:
         lines += _convergence_section(convergence)
-    if lammps_wall is not None:
-        lines += _lammps_regression_section(lammps_wall)
+    if regressions is not None:
+        lines += _lammps_regression_section(regressions, checks)
     if claims is not None:
         lines += _paper_section(claims, table1, energy_check)
     if calibration is not None:
@@ -285,22 +285,36 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     _write_html(text, out_dir / "report.html")
 
 
-def _lammps_regression_section(wall: pd.DataFrame) -> list[str]:
-    """The LAMMPS regression cases, build x case -> relative error in T, then the runs."""
-    nu = float(wall.poisson.iloc[0])
-    matrix = wall.pivot_table(index=["build", "engine_version"], columns="wall model", values="err_T",
-                              sort=False).reset_index()
-    matrix.columns.name = None
-    matrix = matrix.rename(columns={c: f"err_T, {c}" for c in matrix.columns if c not in ("build", "engine_version")})
-    return ["## LAMMPS: the wall modulus of `hertz/material`", "",
-            f"Regression case, run in every LAMMPS build: a sphere on a plane of its own material (nu = {nu:g}), "
-            "elastic. With an explicit `hertz` kn = 4/3 E* every build matches the reference; with `fix wall/gran "
-            "... hertz/material E eta nu`, as a user would write it, Debian's build (29 Sep 2021) uses E/(2(1-nu)) "
-            "instead of E/(2(1-nu^2)) for the wall, (1+nu) times too stiff, so T is off by "
-            f"(1+nu)^(-2/5) - 1 = {(1 + nu) ** -0.4 - 1:.4%}; a build with the fix (22 Jul 2025) gives 0. The study "
-            "always gives the wall an explicit kn. Relative error in the contact time T, build x case:", "",
-            _md_table(matrix, ".4g"), "", "The runs (`results/lammps/wall_modulus.csv`):", "",
-            _md_table(wall, ".4g"), ""]
+def _lammps_regression_section(regressions: pd.DataFrame, checks: pd.DataFrame) -> list[str]:
+    """The LAMMPS regression cases (engines.lammps.regression_cases): build x case -> the largest
+    relative error of the run written as a user would (and whether its checks pass), then every run."""
+    user = regressions[regressions.role == "user"]
+    cells = pd.DataFrame(index=pd.Index(user.build.unique(), name="build"))
+    for (build, case), sel in user.groupby(["build", "case"], sort=False):
+        worst = float(sel[["err_T", "err_A", "err_eps"]].abs().max(axis=1).max())
+        mine = checks[(checks.build == build) & (checks.law == f"regression:{case}")]
+        ok = len(mine) > 0 and bool(mine["pass"].all())
+        cells.loc[build, case] = f"{worst:.3g} ({'right' if ok else 'defect'})"
+    cells = cells.reset_index()
+    wall = user[user.case == "wall-modulus"]
+    nu_err = float(wall.defect_err_T.iloc[0]) if len(wall) else float("nan")
+    return ["## LAMMPS: regression cases of two 2021 defects", "",
+            "Run in every LAMMPS build; reported, not gated (their checks are in `checks.csv` with `gates` False, "
+            "and `compare` shows a fixed defect as a fix). Each case is written twice: the way a user would write "
+            "it, and the way the study writes the contact (the control, which must match the reference).", "",
+            "- **wall-modulus**: an elastic sphere on a plane of its own material (nu = 0.3) with `fix wall/gran "
+            "... hertz/material E 0 nu`. Debian's build (29 Sep 2021) takes E/(2(1-nu)) for the wall instead of "
+            f"E/(2(1-nu^2)), (1+nu) times too stiff: T off by (1+nu)^(-2/5) - 1 = {nu_err:.4%}. The study gives "
+            "the wall an explicit `hertz` kn.",
+            "- **mixing**: two equal spheres (K = 0.1) of two atom types, one `pair_coeff i i` line per type, the "
+            "1-2 pair left to mixing. In the 2021 build the mixed pair loses its Hertz and damping models: "
+            "measured here, the contact time is off by about -100 % and eps is far above 1 in one run, and the "
+            "same deck ends in SIGSEGV in another (coefficients left uninitialised). The study writes one "
+            "`pair_coeff * *` line.", "",
+            "Worst |relative error| of T, A and eps, build x case (right: every check within its tolerance):", "",
+            _md_table(cells), "", "Every run (`results/lammps/regressions.csv`):", "",
+            _md_table(regressions[["build", "engine_version", "case", "role", "written as", "err_T", "err_A",
+                                   "err_eps"]], ".4g"), ""]
 
 
 def _calibration_section(markdown_text: str, folder: str = "calibration") -> list[str]:

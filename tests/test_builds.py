@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pandas as pd
 import pytest
 import yaml
 from snakemake.utils import validate
@@ -13,7 +14,10 @@ from snakemake.utils import validate
 from engine_cases import VELOCITY, dump_metrics, relative_errors, require_engine, steel_pair
 from engines import RunSpec, run_sweep
 from engines.builds import Build, BuildError, check_build, load_builds
-from engines.lammps import wall_modulus_regression
+from engines.lammps import run_regression_cases, wall_modulus_regression
+from postprocess.compare import compare_checks, pair_builds
+from postprocess.gate import junit_xml, regression_checks, verdict_of
+from postprocess.regressions import regression_table
 from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -118,6 +122,41 @@ def test_wall_modulus_regression_case_in_both_lammps_builds(tmp_path):
     assert abs(explicit) < 1e-5 and material == pytest.approx(-0.09963, abs=1e-4)
     explicit, material = wall_errors(str(LAMMPS_2025), "lammps-2025", tmp_path / "2025")
     assert abs(explicit) < 1e-5 and abs(material) < 1e-6
+
+
+def test_both_lammps_defects_are_reported_not_gated_and_compare_shows_them_as_fixes(tmp_path):
+    """The two 2021 defects, run in both builds, through the checks to `compare --builds`:
+    the 2021 build fails both cases (the mixed pair by its error or by crashing), 2025 passes
+    them, every control passes, and the comparison 2021 -> 2025 lists them as fixes."""
+    require_engine("lmp", "lammps")
+    needs_lammps_2025()
+    tolerance = {"T": 5e-4, "A": 5e-4, "eps": 5e-4}
+    tables = []
+    for build, exe in (("lammps-2021", "lmp"), ("lammps-2025", str(LAMMPS_2025))):
+        cases, sweep = run_regression_cases(tmp_path / build, executable=exe, build=build)
+        tables.append(regression_table(cases, sweep, build))
+    table = pd.concat(tables, ignore_index=True)
+    control = table[table.role == "control"]
+    assert control.problem.fillna("").eq("").all()
+    assert control[["err_T", "err_A", "err_eps"]].abs().max().max() < 1e-4  # dt = T_e/1000: ~5e-5
+    checks = regression_checks(table, tolerance)
+    assert len(checks) == 2 * 2 * 3 and not checks.gates.any()
+    failing = checks[~checks["pass"]]
+    assert set(failing.build) == {"lammps-2021"}
+    assert set(map(tuple, failing[["law", "quantity"]].to_numpy())) >= {
+        ("regression:wall-modulus", "T"), ("regression:wall-modulus", "A"), ("regression:mixing", "T")}
+    wall_T = checks[(checks.build == "lammps-2021") & (checks.law == "regression:wall-modulus") & (checks.quantity == "T")]
+    assert float(wall_T.max_abs_error.iloc[0]) == pytest.approx(1 - 1.3 ** -0.4, abs=1e-4)
+    # A study whose only failures are reported ones is a PASS; JUnit marks them skipped, not failed.
+    verdict = verdict_of(checks, "sha", tolerance)
+    assert verdict["verdict"] == "FAIL" and verdict["checked"] == 0  # nothing gating at all: never a PASS
+    root = junit_xml(checks).getroot()
+    assert root.get("failures") == "1" and int(root.get("skipped")) == len(failing)  # the 'no gated check' case
+    comparison = compare_checks(*pair_builds(checks, checks, "lammps-2021", "lammps-2025"))
+    fixes = comparison[comparison.status == "fix"]
+    assert set(fixes.law) == {"regression:wall-modulus", "regression:mixing"}
+    assert (comparison.status != "regression").all()
+    assert set(fixes.build) == {"lammps-2021 -> lammps-2025"}
 
 
 def test_own_build_is_one_entry_and_gives_bit_identical_dumps(tmp_path):

@@ -74,3 +74,23 @@ def test_command_writes_reports_and_exits_1_on_a_regression_2_on_bad_input(tmp_p
     (tmp_path / "other.csv").write_text("a,b\n1,2\n")
     with pytest.raises(CompareError, match=r"other\.csv: neither a checks\.csv nor a summary\.csv"):
         load_checks(tmp_path / "other.csv")
+
+
+def test_two_builds_of_one_study_are_compared_with_builds(tmp_path, capsys):
+    study = pd.concat([checks(T=(0.0996, False), A=(1e-6, True)).assign(build="lammps-2021"),
+                       checks(T=(5e-7, True), A=(1e-6, True)).assign(build="lammps-2025"),
+                       checks(T=(1e-6, True)).assign(build="yade-2023")], ignore_index=True)
+    path, out = tmp_path / "checks.csv", tmp_path / "out"
+    study.to_csv(path, index=False)
+    assert main([str(path), str(path), "--out", str(out), "--builds", "lammps-2021=lammps-2025"]) == 0
+    assert "0 regressions, 1 fixes" in capsys.readouterr().out
+    comparison = pd.read_csv(out / "compare.csv")
+    assert set(comparison.build) == {"lammps-2021 -> lammps-2025"}  # yade left out
+    assert dict(zip(comparison.quantity, comparison.status)) == {"T": "fix", "A": "unchanged"}
+    assert main([str(path), str(path), "--out", str(out), "--builds", "lammps-2025=lammps-2021"]) == 1
+    capsys.readouterr()
+    assert main([str(path), str(path), "--out", str(out), "--builds", "lammps-2021"]) == 2
+    assert "--builds 'lammps-2021': write it as BASELINE_BUILD=CANDIDATE_BUILD" in capsys.readouterr().err
+    assert main([str(path), str(path), "--out", str(out), "--builds", "lammps-2021=lammps-1999"]) == 2
+    assert ("the candidate study has no check of build 'lammps-1999'; its builds: lammps-2021, lammps-2025, "
+            "yade-2023") in capsys.readouterr().err

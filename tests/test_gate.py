@@ -143,3 +143,39 @@ def test_withdraw_verdict_removes_every_verdict_file(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["summary.csv"]
     write_verdict({"verdict": "PASS"}, tmp_path / "verdict.json")
     assert not list(tmp_path.glob(".*.part"))  # written atomically: no temporary left behind
+
+
+def regression_rows(build, user_err_T, control_err_T=5e-5, problem=""):
+    """A regression case's table (postprocess.regressions): the user's run and the control."""
+    base = {"build": build, "case": "wall-modulus", "geometry": "sphere-plane", "K": 0.0}
+    return [{**base, "role": "user", "run": f"{build}-user", "problem": problem,
+             "err_T": user_err_T, "err_A": user_err_T, "err_eps": 1e-8},
+            {**base, "role": "control", "run": f"{build}-control", "problem": "",
+             "err_T": control_err_T, "err_A": control_err_T, "err_eps": 1e-8}]
+
+
+def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the_verdict():
+    from postprocess.gate import regression_checks
+
+    model = gate_checks(pd.DataFrame(rows("a")), plan(("a", "lammps", "viscoelastic", "sphere-sphere")),
+                        no_failures(), TOL)
+    reported = regression_checks(pd.DataFrame(regression_rows("lammps-2021", -0.0996) +
+                                              regression_rows("lammps-2025", 5e-7) +
+                                              regression_rows("lammps-x", math.nan, problem="SIGSEGV") +
+                                              regression_rows("lammps-y", 1e-7, control_err_T=0.2)), TOL)
+    status = reported.set_index(["build", "quantity"])["pass"]
+    assert not status[("lammps-2021", "T")] and status[("lammps-2025", "T")] and status[("lammps-2021", "eps")]
+    assert not status[("lammps-x", "eps")]  # a crashed run fails every quantity, naming why
+    assert "the run failed: SIGSEGV" in reported[reported.build == "lammps-x"].reason.iloc[0]
+    y = reported[(reported.build == "lammps-y") & (reported.quantity == "T")].iloc[0]
+    assert not y["pass"] and "the control run" in y.reason  # a wrong control proves nothing: it fails
+    checks = pd.concat([model, reported], ignore_index=True)
+    v = verdict_of(checks, "sha", TOL)
+    assert v["verdict"] == "PASS" and v["checked"] == 6  # only the model's checks gate
+    assert any(r.startswith("lammps-2021 regression:wall-modulus sphere-plane x0 T: 9.960e-02 > 0.0005")
+               for r in v["reported"])
+    root = junit_xml(checks).getroot()
+    assert root.get("failures") == "0" and int(root.get("skipped")) == int((~reported["pass"]).sum())
+    skipped = [c for c in root.iter("testcase") if c.find("skipped") is not None]
+    assert all(c.get("classname").split(".")[1].startswith("regression:") for c in skipped)
+    assert all(c.find("failure") is None for c in root.iter("testcase"))

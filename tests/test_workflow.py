@@ -32,8 +32,8 @@ def test_dry_run_plans_every_case_and_engine():
     cases = len(list((ROOT / "cases").glob("*.yaml")))
     builds = 4  # config/config.yaml: liggghts-3.8, yade-2023, lammps-2021, lammps-2025
     assert re.search(rf"^run_engine\s+{builds * cases}$", out.stdout, flags=re.M), out.stdout
-    assert re.search(r"^lammps_wall_modulus\s+2$", out.stdout, flags=re.M), out.stdout  # one per LAMMPS build
-    assert "convergence_runs" in out.stdout and "lammps_wall_modulus" in out.stdout
+    assert re.search(r"^lammps_regression_runs\s+2$", out.stdout, flags=re.M), out.stdout  # one per LAMMPS build
+    assert "convergence_runs" in out.stdout and "compare_builds" in out.stdout
     for rule in ("paper_claims", "paper_figure_1", "paper_figure_3", "paper_figure_4", "paper_figure_5"):
         assert rule in out.stdout, rule
     assert "gate" in out.stdout and "report" in out.stdout

@@ -18,7 +18,7 @@ rule compare_studies:
         html="results/compare/compare.html",
         junit="results/compare/compare-junit.xml",
     log: "logs/compare/studies.log"
-    params: factor=config["compare_factor"], tolerance=config["tolerance"]
+    params: factor=config["compare_factor"], tolerance=config["tolerance"], builds=None
     script: "../scripts/compare_studies.py"
 
 
@@ -28,3 +28,30 @@ rule compare_gate:
     output: "results/compare/gate.txt"
     log: "logs/compare/gate.log"
     script: "../scripts/compare_gate.py"
+
+
+def build_pair_comparisons():
+    """results/compare/<baseline>_vs_<candidate>/compare.md of config compare_builds (part of `all`)."""
+    out = []
+    for pair in config.get("compare_builds") or []:
+        for role in ("baseline", "candidate"):
+            if pair[role] not in BUILDS:
+                raise BuildError(f"config 'compare_builds': {role} {pair[role]!r} is not the id of a build; known: "
+                                 f"{', '.join(BUILD_IDS)}")
+        out.append(f"results/compare/{pair['baseline']}_vs_{pair['candidate']}/compare.md")
+    return out
+
+
+rule compare_builds:
+    """Two builds of this study, check by check (compare --builds): the regression cases of a
+    defect fixed in the candidate show as fixes. A report, not a gate."""
+    input: candidate="results/checks.csv", baseline="results/checks.csv"
+    output:
+        csv="results/compare/{baseline}_vs_{candidate}/compare.csv",
+        md="results/compare/{baseline}_vs_{candidate}/compare.md",
+        html="results/compare/{baseline}_vs_{candidate}/compare.html",
+        junit="results/compare/{baseline}_vs_{candidate}/compare-junit.xml",
+    log: "logs/compare/{baseline}_vs_{candidate}.log"
+    params: factor=config["compare_factor"], tolerance=config["tolerance"],
+            builds=lambda w: (w.baseline, w.candidate)
+    script: "../scripts/compare_studies.py"

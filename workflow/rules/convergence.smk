@@ -30,21 +30,3 @@ rule convergence_summary:
     params: tolerance=config["tolerance"]
     script: "../scripts/convergence_summary.py"
 
-
-rule lammps_wall_modulus:
-    """Regression case in one LAMMPS build: fix wall/gran hertz/material uses E/(2(1-nu)) in
-    the 2021 build, E/(2(1-nu^2)) (right) in 2025."""
-    input: "cases/decks/lammps/sphere_plane.in"
-    output: csv="results/lammps/{lammps_build}/wall_modulus.csv",
-            runs=directory("results/lammps/{lammps_build}/wall_modulus")
-    log: "logs/lammps_wall_modulus/{lammps_build}.log"
-    params: poisson=0.3, build=lambda w: build_params(w.lammps_build)
-    script: "../scripts/lammps_wall_modulus.py"
-
-
-rule lammps_regressions:
-    """The regression cases of every LAMMPS build in one table: build x case -> error."""
-    input: expand("results/lammps/{lammps_build}/wall_modulus.csv", lammps_build=LAMMPS_BUILDS)
-    output: "results/lammps/wall_modulus.csv"
-    log: "logs/lammps_regressions.log"
-    script: "../scripts/lammps_regressions.py"

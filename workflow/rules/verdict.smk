@@ -16,8 +16,8 @@ EXTRA_REPORT_INPUTS = {
         **{f"figure_{n}": f"results/paper/{name}.png" for n, name in PAPER_FIGURES.items()}}
        if "paper" in EXTRAS else {}),
     **({"calibration": "results/calibration/report.md"} if "calibration" in EXTRAS else {}),
-    **({"lammps_wall": "results/lammps/wall_modulus.csv"}
-       if "lammps_wall_modulus" in EXTRAS and LAMMPS_BUILDS else {}),
+    **({"regressions": "results/lammps/regressions.csv"}
+       if "lammps_regressions" in EXTRAS and LAMMPS_BUILDS else {}),
 }
 
 

@@ -3,13 +3,18 @@
 from pathlib import Path
 
 from common import log_to
-from postprocess.compare import compare_checks, load_checks, write_comparison
+from postprocess.compare import compare_checks, load_checks, pair_builds, write_comparison
 
 log = log_to(snakemake.log[0])
 tolerance = snakemake.params.tolerance
-baseline, candidate = snakemake.input.baseline, Path(snakemake.input.candidate).parent
-comparison = compare_checks(load_checks(baseline, tolerance), load_checks(candidate, tolerance),
-                            snakemake.params.factor)
-write_comparison(comparison, Path(snakemake.output.md).parent, str(baseline), str(candidate),
-                 snakemake.params.factor, 1e-9)
+baseline, candidate = Path(snakemake.input.baseline).parent, Path(snakemake.input.candidate).parent
+if not Path(snakemake.input.baseline).name == "checks.csv":
+    baseline = snakemake.input.baseline  # a results folder or summary.csv given as compare_baseline
+base, cand = load_checks(baseline, tolerance), load_checks(candidate, tolerance)
+names = str(baseline), str(candidate)
+if snakemake.params.builds:  # two builds of one study
+    base, cand = pair_builds(base, cand, *snakemake.params.builds)
+    names = tuple(f"{folder} build {b}" for folder, b in zip(names, snakemake.params.builds))
+comparison = compare_checks(base, cand, snakemake.params.factor)
+write_comparison(comparison, Path(snakemake.output.md).parent, *names, snakemake.params.factor, 1e-9)
 log.info("%s", comparison.status.value_counts().to_dict())

@@ -10,7 +10,7 @@ from pathlib import Path
 import pandas as pd
 
 from common import start_rule
-from postprocess.gate import gate_checks, verdict_of, write_junit, write_verdict
+from postprocess.gate import gate_checks, regression_checks, verdict_of, write_junit, write_verdict
 from postprocess.verdict_files import file_sha256
 from postprocess.report import write_report
 from postprocess.run_manifest import read_manifest
@@ -25,12 +25,15 @@ plan_runs = pd.DataFrame([{"case": p["case"], **r} for p in plans for r in p["ru
 failed_runs = [{"case": m["case"], "build": m.get("build", m["engine"]), "engine": m["engine"], **f}
                for m in manifests for f in m["failed"]]
 checks = gate_checks(table, plan_runs, pd.DataFrame(failed_runs), tolerance)
+if "regressions" in snakemake.input.keys():  # the engines' known defects: reported, not gating
+    checks = pd.concat([checks, regression_checks(pd.read_csv(snakemake.input.regressions), tolerance)],
+                       ignore_index=True)
 verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
 timing = {"engine jobs": len(manifests),
           "engine process seconds (sum)": round(sum(m["engine_seconds"] for m in manifests), 2)}
 not_run = [row for p in plans for row in p["not_run"]]
 optional = {key: pd.read_csv(snakemake.input[key])
-            for key in ("convergence", "lammps_wall", "claims", "table1", "energy_check")
+            for key in ("convergence", "regressions", "claims", "table1", "energy_check")
             if key in snakemake.input.keys()}
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()

@@ -1,0 +1,16 @@
+"""Snakemake script: the LAMMPS regression cases (engines.lammps.regression_cases) in one LAMMPS build."""
+
+from common import start_rule
+from engines.builds import Build
+from engines.lammps import run_regression_cases
+from postprocess.regressions import regression_table
+
+log = start_rule(snakemake)
+build = Build(**snakemake.params.build)
+cases, sweep = run_regression_cases(snakemake.output.runs, executable=build.executable, build=build.id,
+                                    timeout_floor_s=snakemake.params.timeout_floor_s)
+table = regression_table(cases, sweep, build.id)
+table.to_csv(snakemake.output.csv, index=False, float_format="%.6g")
+for row in table.to_dict("records"):
+    log.info("%s %s %s: err_T %.3g err_A %.3g err_eps %.3g %s", row["build"], row["case"], row["role"],
+             row["err_T"], row["err_A"], row["err_eps"], row["problem"])
