@@ -14,6 +14,7 @@ targets.
 import glob
 import os
 import re
+import sys
 from pathlib import Path
 
 from snakemake.utils import validate
@@ -63,7 +64,7 @@ rule all:
         "results/junit.xml",
         "results/summary.csv",
         "results/reference/collisions.csv",
-        lambda w: build_pair_comparisons(),  # workflow/rules/compare.smk (defined below)
+        lambda w: BUILD_PAIR_COMPARISONS,  # config compare_builds (workflow/rules/compare.smk, below)
 
 
 include: "workflow/rules/builds.smk"
