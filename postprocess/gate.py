@@ -75,7 +75,8 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
     Returns
     -------
     DataFrame, one row per check, sorted by GROUP and quantity: the GROUP columns, quantity,
-    planned, landed, failed (run counts), max_abs_error (NaN without a result), at_K, case,
+    planned, landed, failed (run counts), max_abs_error (NaN without a result), at_K, case and
+    at_run (the K, case and run name of that largest error; NaN/empty without a result),
     tolerance, pass (bool) and reason (why it failed; empty when it passed).
     """
     planned = planned_groups(plan_runs)
@@ -94,13 +95,14 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
         missing = sorted(set(sel_plan.run) - set(sel.run if len(sel) else ()) - set(sel_failed.run))
         for q in GATED_QUANTITIES:
             row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q, "planned": n_planned, "landed": n_landed,
-                   "failed": n_failed, "max_abs_error": math.nan, "at_K": math.nan, "case": "",
+                   "failed": n_failed, "max_abs_error": math.nan, "at_K": math.nan, "case": "", "at_run": "",
                    "tolerance": float(tolerance[q]), "pass": False, "reason": ""}
             if n_landed:
                 errors = np.abs(sel[f"err_{q}"].to_numpy(dtype=float))
                 bad = np.isnan(errors)
                 i = int(np.nanargmax(errors)) if not bad.all() else 0
-                row.update(max_abs_error=float(errors[i]), at_K=float(sel.K.iloc[i]), case=str(sel.case.iloc[i]))
+                row.update(max_abs_error=float(errors[i]), at_K=float(sel.K.iloc[i]), case=str(sel.case.iloc[i]),
+                           at_run=str(sel.run.iloc[i]) if "run" in sel.columns else "")
             reasons = []
             if n_failed:
                 first = sel_failed.iloc[0]
@@ -118,8 +120,8 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
             row["pass"] = not reasons
             row["reason"] = "; ".join(reasons)
             rows.append(row)
-    columns = [GROUP[0], "engine", *GROUP[1:], "quantity", "planned", "landed", "failed", "max_abs_error", "at_K", "case", "tolerance",
-               "pass", "reason"]
+    columns = [GROUP[0], "engine", *GROUP[1:], "quantity", "planned", "landed", "failed", "max_abs_error", "at_K", "case", "at_run",
+               "tolerance", "pass", "reason"]
     return pd.DataFrame(rows, columns=columns)
 
 
