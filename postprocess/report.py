@@ -24,6 +24,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from contact_model import GEOMETRIES  # noqa: E402
 from engines import GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 
@@ -320,6 +321,9 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
             worst_eps_err=("err_eps", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
             worst_T_err=("err_T", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
             worst_A_err=("err_A", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))])).reset_index()
+        order = build_order(builds, drift)  # builds in config order, geometries in GEOMETRIES order
+        drift = drift.iloc[np.lexsort(([list(GEOMETRIES).index(g) if g in GEOMETRIES else len(GEOMETRIES)
+                                        for g in drift.geometry], [order.index(b) for b in drift.build]))]
         lines += ["## Out-of-the-box laws against the viscoelastic model", "",
                   "LIGGGHTS `model hertz`, YADE Hertz-Mindlin with `en` and LAMMPS `damping tsuji`, each given the "
                   "reference eps at one velocity as its restitution coefficient (under the criterion its default "

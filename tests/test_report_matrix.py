@@ -232,6 +232,9 @@ def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
     md = (tmp_path / "report.md").read_text()
     assert "@@" not in md and "| **lammps-2025** |" in md and "[checks.csv](checks.csv)" in md
     assert f"1. yade: {NA_REASON}" in md and "a plane is a huge box" in md
+    drift = md.split("## Out-of-the-box laws")[1].split("`restitution` is")[1]
+    rows = [line.split("|")[1:3] for line in drift.splitlines() if line.startswith("| ") and "sphere-" in line]
+    assert [(b.strip(), g.strip()) for b, g in rows] == [(b, g) for b in BUILDS for g in ("sphere-sphere", "sphere-plane")]
     html = (tmp_path / "report.html").read_text()
     tables = parse_tables(html)
     matrices = [t for t in tables if t["class"] == "matrix"]
