@@ -251,7 +251,8 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
     lines = ["| build | " + " | ".join(group_row(0)) + " |", "|---|" + ":---:|" * len(columns),
              "| | " + " | ".join(group_row(1)) + " |", "| | " + " | ".join(group_row(2)) + " |"]
     lines += [f"| **{b}** | " + " | ".join(text(b, c) for c in columns) + " |" for b in builds]
-    lines += ["", legend(tolerance), ""]
+    has_none = any((b, c) not in by_key for b in builds for c in columns)
+    lines += ["", legend(tolerance, na=bool(notes), none=has_none), ""]
     if notes:
         lines += ["Not available (the build's code cannot express the law; nothing is run, nothing is gated):", ""]
         lines += [f"{n}. {code}: {reason}" for (code, reason), n in notes.items()] + [""]
@@ -259,14 +260,16 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
     return lines
 
 
-def legend(tolerance: Mapping[str, float]) -> str:
-    """The matrix's legend (Markdown)."""
+def legend(tolerance: Mapping[str, float], na: bool = True, none: bool = True) -> str:
+    """The matrix's legend (Markdown); the n/a and '–' entries only where the matrix has such
+    cells (`na`, `none`)."""
     tolerances = ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES)
-    return (f"✔ pass: T, A and eps all within tolerance ({tolerances}"
-            "); ✘ fail, with the failing quantities in brackets; the number is the cell's worst |relative error| "
-            "over T, A and eps, every case and every K (engine vs reference solver). n/a: the build's code cannot "
-            "express the law (the reasons below). – : the build has no run in that cell. Every check, with the K, "
-            "case and run of its worst error: [checks.csv](checks.csv).")
+    return (f"✔ pass: T, A and eps all within tolerance ({tolerances}); ✘ fail, with the failing quantities in "
+            "brackets; the number is the cell's worst |relative error| over T, A and eps, every case and every K "
+            "(engine vs reference solver)."
+            + (" n/a: the build's code cannot express the law (the reasons below)." if na else "")
+            + (" – : the build has no run in that cell." if none else "")
+            + " Every check, with the K, case and run of its worst error: [checks.csv](checks.csv).")
 
 
 def code_notes_markdown(code_notes: Mapping[str, Sequence[str]] | None, codes: Sequence[str]) -> list[str]:

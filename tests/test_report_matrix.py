@@ -278,3 +278,11 @@ def test_report_in_a_browser(study, tmp_path):
                          timeout=120)
     matrices = [t for t in parse_tables(out.stdout) if t["class"] == "matrix"]
     assert len(matrices) == 1 and [r[0][2] for r in matrices[0]["rows"][3:]] == BUILDS
+
+
+def test_legend_names_only_the_kinds_of_cell_the_matrix_has(study):
+    _, checks, not_available = study
+    with_na = "\n".join(matrix_markdown(matrix_cells(checks, not_available, BUILDS), TOL))
+    without = "\n".join(matrix_markdown(matrix_cells(checks, (), BUILDS), TOL))
+    assert "n/a: the build's code" in with_na and "n/a" not in without
+    assert "– : the build has no run" in without  # YADE has no clipped cell, and none is n/a
