@@ -34,6 +34,11 @@ from .codes import CODES
 LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic", "default")
 #: The laws the study validates against tolerances (the model under test); 'default' is compared only.
 GATED_LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic")
+#: The end-of-collision criteria a run of each gated law stands for (`RunSpec.represents`; the
+#: default law's depends on the engine: `DEFAULT_LAW_CRITERION`).
+LAW_CRITERIA = {"viscoelastic": ("x0", "F0"),  # the tail is kept: one trajectory, both ends
+                "viscoelastic_clipped": ("F0",),
+                "elastic": ("x0",)}  # no tail: x0 and F0 coincide
 ENGINES = tuple(CODES)
 #: The criterion each engine's default law stands for (engines.codes: whether it keeps the tail).
 DEFAULT_LAW_CRITERION = {name: c.default_criterion for name, c in CODES.items()}
@@ -91,12 +96,8 @@ class RunSpec:
     @property
     def represents(self) -> tuple[str, ...]:
         """The end-of-collision criteria this run's trajectory stands for."""
-        if self.law == "viscoelastic":
-            return ("x0", "F0")  # the tail is kept: one trajectory, both ends
-        if self.law == "viscoelastic_clipped":
-            return ("F0",)
-        if self.law == "elastic":
-            return ("x0",)  # no tail: x0 and F0 coincide
+        if self.law in LAW_CRITERIA:
+            return LAW_CRITERIA[self.law]
         return (DEFAULT_LAW_CRITERION[self.engine],)
 
     @property

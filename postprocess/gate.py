@@ -31,7 +31,7 @@ GROUP = ["build", "law", "geometry", "criterion"]
 #: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
 #: or is reported only (an engine's regression cases, `regression_checks`).
 CHECK_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "quantity", "planned", "landed", "failed",
-                 "max_abs_error", "at_K", "case", "tolerance", "pass", "reason", "gates"]
+                 "max_abs_error", "at_K", "case", "at_run", "tolerance", "pass", "reason", "gates"]
 
 
 def with_build(df: pd.DataFrame) -> pd.DataFrame:
@@ -79,7 +79,8 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
     Returns
     -------
     DataFrame, one row per check, sorted by GROUP and quantity: the GROUP columns, quantity,
-    planned, landed, failed (run counts), max_abs_error (NaN without a result), at_K, case,
+    planned, landed, failed (run counts), max_abs_error (NaN without a result), at_K, case and
+    at_run (the K, case and run name of that largest error; NaN/empty without a result),
     tolerance, pass (bool) and reason (why it failed; empty when it passed).
     """
     planned = planned_groups(plan_runs)
@@ -98,13 +99,14 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
         missing = sorted(set(sel_plan.run) - set(sel.run if len(sel) else ()) - set(sel_failed.run))
         for q in GATED_QUANTITIES:
             row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q, "planned": n_planned, "landed": n_landed,
-                   "failed": n_failed, "max_abs_error": math.nan, "at_K": math.nan, "case": "",
+                   "failed": n_failed, "max_abs_error": math.nan, "at_K": math.nan, "case": "", "at_run": "",
                    "tolerance": float(tolerance[q]), "pass": False, "reason": ""}
             if n_landed:
                 errors = np.abs(sel[f"err_{q}"].to_numpy(dtype=float))
                 bad = np.isnan(errors)
                 i = int(np.nanargmax(errors)) if not bad.all() else 0
-                row.update(max_abs_error=float(errors[i]), at_K=float(sel.K.iloc[i]), case=str(sel.case.iloc[i]))
+                row.update(max_abs_error=float(errors[i]), at_K=float(sel.K.iloc[i]), case=str(sel.case.iloc[i]),
+                           at_run=str(sel.run.iloc[i]) if "run" in sel.columns else "")
             reasons = []
             if n_failed:
                 first = sel_failed.iloc[0]
@@ -165,7 +167,7 @@ def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFram
             rows.append({"build": build, "engine": "", "law": f"regression:{case}", "geometry": user.geometry,
                          "criterion": "x0", "quantity": q, "planned": 1, "landed": 0 if failed else 1,
                          "failed": 1 if failed else 0, "max_abs_error": error, "at_K": float(user.K),
-                         "case": f"regression:{case}", "tolerance": float(tolerance[q]), "pass": not reasons,
+                         "case": f"regression:{case}", "at_run": user.run, "tolerance": float(tolerance[q]), "pass": not reasons,
                          "reason": "; ".join(reasons), "gates": False})
     return pd.DataFrame(rows, columns=CHECK_COLUMNS)
 

@@ -9,6 +9,7 @@ paper's series are compared, not gated: where they depart from the reference, th
 
 from __future__ import annotations
 
+import itertools
 import re
 from datetime import datetime, timezone
 from pathlib import Path
@@ -17,24 +18,74 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import cycler  # noqa: E402
+from matplotlib.legend_handler import HandlerTuple  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from contact_model import GEOMETRIES  # noqa: E402
 from engines import GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 
-from .gate import GATED_QUANTITIES, with_build  # noqa: E402
+from .gate import GATED_QUANTITIES, gating, with_build  # noqa: E402
+from .report_matrix import (build_order, default_law_cells, default_matrix_html, default_matrix_markdown,  # noqa: E402
+                            matrix_cells, matrix_html, matrix_markdown)
 from .verdict_files import write_atomically  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
          "Q1": ("Q1/Q1e", "Q1e"), "Q2": ("Q2/Q2e", "Q2e")}
-MARKERS = {("liggghts", "sphere-sphere"): "o", ("liggghts", "sphere-plane"): "s",
-           ("yade", "sphere-sphere"): "^", ("yade", "sphere-plane"): "v",
-           ("lammps", "sphere-sphere"): "D", ("lammps", "sphere-plane"): "d"}
-COLORS = {"liggghts": "tab:blue", "yade": "tab:red", "lammps": "tab:green"}
-# Large hollow, medium hollow, small filled: where the engines agree all stay visible.
-SIZE = {"liggghts": 10, "lammps": 7, "yade": 4}
-HOLLOW = {"liggghts": True, "lammps": True, "yade": False}
+#: The markers of the builds' cycle, paired with matplotlib's default colour cycle (tab10); a square
+#: first, so that the smaller markers of the builds after it nest inside it.
+MARKER_CYCLE = ("s", "o", "^", "D", "v", "P", "X", "<", "h", ">")
+#: The geometries, in the order of the legend; sphere-plane markers carry a dot at their centre.
+GEOMETRY_DOT = {"sphere-sphere": False, "sphere-plane": True}
+
+
+def build_styles(builds) -> dict[str, dict]:
+    """A distinct marker and colour per engine build, from the order of `builds` (config
+    `builds:`): matplotlib's colour cycle zipped with MARKER_CYCLE. Markers are hollow and
+    shrink along the list, so that builds that agree (the same point) show as nested markers,
+    every one visible.
+
+    Returns
+    -------
+    {build: {"color", "marker", "ms"}}, usable as keyword arguments of `Axes.plot`.
+    """
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    cycle = cycler(color=(colors * len(MARKER_CYCLE))[:len(MARKER_CYCLE)]) + cycler(marker=MARKER_CYCLE)
+    return {b: {**style, "ms": max(4.0, 14.0 - 2.0 * i)}
+            for i, (b, style) in enumerate(zip(builds, itertools.cycle(cycle)))}
+
+
+def _plot_points(ax, x, y, style: dict, geometry: str, semilogy: bool = False) -> None:
+    """A build's points in one geometry: its hollow marker, with a dot at the centre on
+    sphere-plane."""
+    plot = ax.semilogy if semilogy else ax.plot
+    plot(x, y, ls="none", mfc="none", mew=1.4, **style)
+    if GEOMETRY_DOT.get(geometry):
+        plot(x, y, ls="none", marker=".", ms=3.5, color=style["color"])
+
+
+def _legend(ax, styles: dict, present, labels: dict | None = None, fontsize=7) -> None:
+    """The axes' own entries, then one per build (its marker) and one per geometry."""
+    grey = {"color": "0.3", "marker": "o", "ms": 8, "mfc": "none", "mew": 1.4, "ls": "none"}
+    handles = [Line2D([], [], ls="none", mfc="none", mew=1.4, **styles[b]) for b in present]
+    names = [(labels or {}).get(b, b) for b in present]
+    handles += [Line2D([], [], **grey), (Line2D([], [], **grey), Line2D([], [], ls="none", marker=".", ms=3.5,
+                                                                         color="0.3"))]
+    names += list(GEOMETRY_DOT)
+    own, own_names = ax.get_legend_handles_labels()
+    ax.legend([*own, *handles], [*own_names, *names], fontsize=fontsize, handler_map={tuple: HandlerTuple(ndivide=1)})
+
+
+def _builds(table: pd.DataFrame, builds=None) -> list[str]:
+    """The builds of `table` in config order (`builds`), others after in order of appearance."""
+    return [b for b in build_order(builds, table) if b in set(table.build)]
+
+
+#: Where the matrices go in the report's text (Markdown in report.md, HTML tables in report.html).
+MATRIX, DEFAULT_MATRIX = "@@gated-matrix@@", "@@default-matrix@@"
 
 
 def _ratio(table, q):
@@ -51,57 +102,68 @@ def reference_curve(K_max: float, reference: pd.DataFrame | None = None):
     return solve_collisions(np.linspace(0.0, K_max, 200))
 
 
-def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve) -> None:
-    """eps, T/T_e, A/A_e, Q1/Q1e, Q2/Q2e against K: engines as markers, the reference solver
-    as a line (`curve`, see reference_curve), the paper's series dashed."""
+def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=None) -> None:
+    """eps, T/T_e, A/A_e, Q1/Q1e, Q2/Q2e against K: every build a marker of its own
+    (`build_styles`, in the order of `builds`), hollow, with a dot at the centre on sphere-plane;
+    the reference solver as a line (`curve`, see reference_curve), the paper's
+    series dashed."""
     K = np.asarray(curve.K)
     ref = hertz_ratios(curve, criterion)
     runs = table[(table.criterion == criterion) & table.law.isin(GATED_LAWS)]
+    present = _builds(runs, builds)
+    styles = build_styles(build_order(builds, table))
     fig, axes = plt.subplots(1, 5, figsize=(20, 4.2))
     for ax, q in zip(axes, RATIO):
         name = RATIO[q][0]
         ax.plot(K, ref[name], "k-", lw=1.5, label="reference ODE")
         ax.plot(K, paper_series_value(name, K), "k--", lw=1, label="paper's series")
-        for (engine, geometry), marker in MARKERS.items():
-            sel = runs[(runs.engine == engine) & (runs.geometry == geometry)]
-            if len(sel):
-                ax.plot(sel.K, _ratio(sel, q), marker, ms=SIZE[engine],
-                        mfc="none" if HOLLOW[engine] else COLORS[engine], color=COLORS[engine],
-                        label=f"{engine}, {geometry}")
+        for build in present:
+            for geometry in GEOMETRY_DOT:
+                sel = runs[(runs.build == build) & (runs.geometry == geometry)]
+                if len(sel):
+                    _plot_points(ax, sel.K, _ratio(sel, q), styles[build], geometry)
         ax.set_xlabel("K")
         ax.set_title(name)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=7)
+    _legend(axes[0], styles, present)
     fig.suptitle(f"Criterion {criterion}: every engine run of every case (viscoelastic laws)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path) -> None:
-    """|relative error| against K per quantity, engines as markers, the tolerance as a line."""
+def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -> None:
+    """|relative error| against K, one row of panels per criterion (x0, F0) and one column per
+    quantity; builds as in `plot_ratios`; the tolerance as a line."""
     runs = table[table.law.isin(GATED_LAWS)]
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    for ax, q in zip(axes, GATED_QUANTITIES):
-        for (engine, geometry), marker in MARKERS.items():
-            for criterion, fill in (("x0", "none"), ("F0", None)):
-                sel = runs[(runs.engine == engine) & (runs.geometry == geometry) & (runs.criterion == criterion)]
-                if len(sel):
-                    ax.semilogy(sel.K, np.abs(sel[f"err_{q}"]).clip(lower=1e-12), marker, mfc=fill,
-                                color=COLORS[engine], ms=SIZE[engine], label=f"{engine}, {geometry}, {criterion}")
-        ax.axhline(tolerance[q], color="k", ls=":", label="tolerance")
+    present = _builds(runs, builds)
+    styles = build_styles(build_order(builds, table))
+    fig, axes = plt.subplots(2, 3, figsize=(15, 7.5), sharex=True, squeeze=False)
+    for row, criterion in zip(axes, ("x0", "F0")):
+        for ax, q in zip(row, GATED_QUANTITIES):
+            for build in present:
+                for geometry in GEOMETRY_DOT:
+                    sel = runs[(runs.build == build) & (runs.geometry == geometry) & (runs.criterion == criterion)]
+                    if len(sel):
+                        _plot_points(ax, sel.K, np.abs(sel[f"err_{q}"]).clip(lower=1e-12), styles[build], geometry,
+                                     semilogy=True)
+            ax.axhline(tolerance[q], color="k", ls=":", label="tolerance")
+            ax.set_title(f"criterion {criterion}: |{q}_engine / {q}_reference - 1|", fontsize=10)
+            ax.grid(alpha=0.3, which="both")
+    for ax in axes[-1]:
         ax.set_xlabel("K")
-        ax.set_title(f"|{q}_engine / {q}_reference - 1|")
-        ax.grid(alpha=0.3, which="both")
-    axes[0].legend(fontsize=6)
+    _legend(axes[0][0], styles, present)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def plot_default_laws(table: pd.DataFrame, path: Path, curve) -> None:
-    """The out-of-the-box laws against the viscoelastic reference: eps and T/T_e against K."""
+def plot_default_laws(table: pd.DataFrame, path: Path, curve, builds=None) -> None:
+    """The out-of-the-box laws against the viscoelastic reference: eps, T/T_e and A/A_e against
+    K; builds as in `plot_ratios` (each under the criterion its default stands for)."""
     runs = table[table.law == "default"]
+    present = _builds(runs, builds)
+    styles = build_styles(build_order(builds, table))
     K = np.asarray(curve.K)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4))
     for ax, q in zip(axes, ("eps", "T", "A")):
@@ -109,17 +171,16 @@ def plot_default_laws(table: pd.DataFrame, path: Path, curve) -> None:
         for criterion, ls in (("x0", "-"), ("F0", "-.")):
             ax.plot(K, hertz_ratios(curve, criterion)[name], "k", ls=ls, lw=1,
                     label=f"viscoelastic reference, {criterion}")
-        for (engine, geometry), marker in MARKERS.items():
-            sel = runs[(runs.engine == engine) & (runs.geometry == geometry)]
-            if len(sel):
-                crit = sel.criterion.iloc[0]
-                ax.plot(sel.K, _ratio(sel, q), marker, color=COLORS[engine], ms=SIZE[engine],
-                        mfc="none" if HOLLOW[engine] else COLORS[engine],
-                        label=f"{engine} default, {geometry} ({crit})")
+        for build in present:
+            for geometry in GEOMETRY_DOT:
+                sel = runs[(runs.build == build) & (runs.geometry == geometry)]
+                if len(sel):
+                    _plot_points(ax, sel.K, _ratio(sel, q), styles[build], geometry)
         ax.set_xlabel("K of the viscoelastic model at that velocity")
         ax.set_title(name)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=7)
+    criteria = runs.groupby("build").criterion.first()
+    _legend(axes[0], styles, present, {b: f"{b} default ({criteria[b]})" for b in present})
     fig.suptitle("Out-of-the-box laws (restitution matched once) against the viscoelastic model")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -187,14 +248,20 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                  failed_runs: list[dict] = (), convergence: pd.DataFrame | None = None,
                  regressions: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
                  table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None,
-                 calibration: str | None = None, reference: pd.DataFrame | None = None) -> None:
+                 calibration: str | None = None, reference: pd.DataFrame | None = None,
+                 builds: list[str] | None = None, not_available=(), code_notes: dict | None = None) -> None:
     """Write report.md, report.html and the plots into out_dir.
 
-    checks, verdict: from `postprocess.gate` (the report shows them; it decides nothing);
+    checks, verdict: from `postprocess.gate` (the report shows them; it decides nothing; the
+    report shows them as a matrix, `postprocess.report_matrix`, and links to checks.csv, which
+    the caller writes next to it);
     not_run: velocities the plan left out, with the reason; failed_runs: runs the engine did not
     complete (of every law: gated ones also fail their checks); calibration: the text of
     results/calibration/report.md, included as a section; reference: the reference table over a
-    K grid (results/reference/collisions.csv) for the curves of the plots.
+    K grid (results/reference/collisions.csv) for the curves of the plots; builds: the build ids
+    in config order (the matrix's rows and the plots' styles); not_available: the plans'
+    ``not_available`` cells (build, engine, law, geometry, reason); code_notes: {code: notes}
+    (`engines.codes.EngineCode.notes`) of the builds' codes, printed under the matrix.
     """
     table = with_build(table)
     out_dir = Path(out_dir)
@@ -205,11 +272,16 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     K_max = max(0.5, float(table.K.max()) * 1.05) if has_rows else 0.5
     curve = reference_curve(K_max, reference) if has_rows else None
     if has_rows:
-        plot_ratios(table, "x0", plots / "ratios_x0.png", curve)
-        plot_ratios(table, "F0", plots / "ratios_F0.png", curve)
-        plot_errors(table, tolerance, plots / "errors.png")
+        plot_ratios(table, "x0", plots / "ratios_x0.png", curve, builds)
+        plot_ratios(table, "F0", plots / "ratios_F0.png", curve, builds)
+        plot_errors(table, tolerance, plots / "errors.png", builds)
     if has_rows and (table.law == "default").any():
-        plot_default_laws(table, plots / "default_laws.png", curve)
+        plot_default_laws(table, plots / "default_laws.png", curve, builds)
+    cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
+    default_cells = default_law_cells(table, not_available, builds) if has_rows else default_law_cells(
+        pd.DataFrame(), not_available, builds)
+    html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes), matrix_html(cells)),
+                   DEFAULT_MATRIX: (default_matrix_markdown(default_cells), default_matrix_html(default_cells))}
 
     lines = [
         "# Viscoelastic Hertz contact in DEM engines: comparison report", "",
@@ -229,15 +301,16 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                   "time steps; its version is read from the engine and recorded in every dump.", ""]
         lines += [f"- **{b}** ({e}): {', '.join(v)}" for (b, e), v in versions.items()] + [""]
         lines += ["Cases: " + ", ".join(f"[{c}]({c}/summary.csv)" for c in sorted(table.case.unique())), ""]
-    shown = checks.assign(**{"pass": checks["pass"].map({True: "pass", False: "FAIL"})})
-    lines += ["## Largest relative error, engine vs reference solver", "",
-              "Viscoelastic law with the attractive tail kept (criteria x0 and F0 from one trajectory) and "
-              "with the force clipped at zero (criterion F0 only). A check also fails when one of its runs failed "
-              "or left no result (`reason`).", "",
-              _md_table(shown[["build", "engine", "law", "geometry", "criterion", "quantity", "max_abs_error", "tolerance",
-                               "pass", "case", "at_K", "reason"]]), ""]
+    lines += ["## Gated checks: the worst relative error of each cell, engine vs reference solver", "",
+              "Rows: engine builds; columns: contact law, geometry, end-of-collision criterion. Laws: viscoelastic "
+              "with the attractive tail kept (criteria x0 and F0 from one trajectory), viscoelastic clipped at zero "
+              "force (F0 only), elastic (eta = 0: Hertz alone). A cell fails when any of its checks (T, A, eps) "
+              "exceeds its tolerance, or when one of its runs failed or left no result. Hover a cell of report.html "
+              "for the worst quantity, case, K and run, and the reason of a failure.", "", MATRIX, ""]
     if has_rows:
-        lines += ["## Against K", "", "Engines as markers, the reference solver as a line, the paper's series dashed.",
+        lines += ["## Against K", "", ("Every engine build a marker and colour of its own (hollow; a dot at the centre: sphere-plane), "
+                  "smaller along the build list, so that builds that agree show as nested markers; the reference "
+                  "solver as a line, the paper's series dashed."),
                   "", "![criterion x0](plots/ratios_x0.png)", "", "![criterion F0](plots/ratios_F0.png)", "",
                   "![errors](plots/errors.png)", ""]
     if has_rows and (table.law == "default").any():
@@ -248,10 +321,15 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
             worst_eps_err=("err_eps", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
             worst_T_err=("err_T", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
             worst_A_err=("err_A", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))])).reset_index()
+        order = build_order(builds, drift)  # builds in config order, geometries in GEOMETRIES order
+        drift = drift.iloc[np.lexsort(([list(GEOMETRIES).index(g) if g in GEOMETRIES else len(GEOMETRIES)
+                                        for g in drift.geometry], [order.index(b) for b in drift.build]))]
         lines += ["## Out-of-the-box laws against the viscoelastic model", "",
                   "LIGGGHTS `model hertz`, YADE Hertz-Mindlin with `en` and LAMMPS `damping tsuji`, each given the "
                   "reference eps at one velocity as its restitution coefficient (under the criterion its default "
-                  "stands for: x0 where the attractive tail is kept, F0 where the force is clipped); not gated. "
+                  "stands for: x0 where the attractive tail is kept, F0 where the force is clipped); compared, not "
+                  "gated. Each cell: the quantity (T, A or eps) with the largest relative error over every case and "
+                  "K, that error, and the criterion.", "", DEFAULT_MATRIX, "",
                   "`restitution` is what the engine was told; `eps_min`/`eps_max` what it gave across the sweep.",
                   "", _md_table(drift), "", "![default laws](plots/default_laws.png)", ""]
     if series_cmp is not None:
@@ -281,8 +359,14 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     if timing:
         lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
     text = "\n".join(lines)
-    write_atomically(out_dir / "report.md", text)
-    _write_html(text, out_dir / "report.html")
+    markdown_text, html_text = text, text
+    for placeholder, (md, html) in html_blocks.items():
+        markdown_text = markdown_text.replace(placeholder, "\n".join(md).rstrip())
+        # Raw HTML passes through Python-Markdown as a block; the Markdown around it (legend, notes) is kept.
+        md_rest = [line for line in md if not line.startswith("|")]
+        html_text = html_text.replace(placeholder, f"\n{html}\n\n" + "\n".join(md_rest).strip())
+    write_atomically(out_dir / "report.md", markdown_text)
+    _write_html(html_text, out_dir / "report.html")
 
 
 def _lammps_regression_section(regressions: pd.DataFrame, checks: pd.DataFrame) -> list[str]:
@@ -379,11 +463,33 @@ def _paper_section(claims: pd.DataFrame, table1: pd.DataFrame | None, energy_che
     return lines
 
 
+#: The report's style sheet: the matrices' cells say pass / fail / n/a in their text (✔ ✘ n/a)
+#: and in their colour.
+CSS = """
+body{font-family:system-ui,sans-serif;max-width:1300px;margin:auto;padding:0 16px;line-height:1.45;color:#222}
+h1{font-size:1.6em}h2{margin-top:1.8em;border-bottom:1px solid #ddd;padding-bottom:3px}
+table{border-collapse:collapse;margin:8px 0}
+td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}
+th{background:#f3f3f3}
+img{max-width:100%}
+table.matrix td,table.matrix th{padding:4px 10px;text-align:center;white-space:nowrap;font-size:14px}
+table.matrix th.build{text-align:left}
+table.matrix th.law{font-size:15px}
+table.matrix thead th{background:#eef1f5}
+table.matrix td.pass{background:#d4edda;color:#155724}
+table.matrix td.fail{background:#f8d7da;color:#721c24;font-weight:bold}
+table.matrix td.na{background:#e2e3e5;color:#555;font-style:italic}
+table.matrix td.none{background:#fff;color:#999}
+table.matrix td.compared{background:#fff8e1}
+table.matrix .law-start{border-left:3px solid #666}
+table.matrix .geometry-start{border-left:2px solid #999}
+table.matrix td[title]{cursor:help}
+"""
+
+
 def _write_html(markdown_text: str, path: Path) -> None:
     import markdown
 
     body = markdown.markdown(markdown_text, extensions=["tables"])
     write_atomically(path, "<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
-                    "<style>body{font-family:sans-serif;max-width:1300px;margin:auto}table{border-collapse:collapse}"
-                    "td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}img{max-width:100%}</style></head>"
-                    f"<body>{body}</body></html>")
+                    f"<style>{CSS}</style></head><body>{body}</body></html>")

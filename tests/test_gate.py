@@ -53,7 +53,7 @@ def test_worst_run_decides_and_the_boundary_is_inclusive():
     checks = gate_checks(table, plan(*[(n, "lammps", "viscoelastic", "sphere-sphere") for n in "abc"]),
                          no_failures(), TOL).set_index(["criterion", "quantity"])
     t = checks.loc[("x0", "T")]
-    assert not t["pass"] and t.max_abs_error == pytest.approx(6e-4) and t.at_K == 0.3
+    assert not t["pass"] and t.max_abs_error == pytest.approx(6e-4) and t.at_K == 0.3 and t.at_run == "b"
     assert t.reason.startswith("6.000e-04 > 0.0005 (case steel, K = 0.3)")
     assert checks.loc[("x0", "A"), "pass"]  # exactly at the tolerance: |err| <= tol passes
     v = verdict_of(checks.reset_index(), "sha", TOL)

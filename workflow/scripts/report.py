@@ -10,6 +10,7 @@ from pathlib import Path
 import pandas as pd
 
 from common import start_rule
+from engines.codes import CODES
 from postprocess.gate import gate_checks, regression_checks, verdict_of, write_junit, write_verdict
 from postprocess.verdict_files import file_sha256
 from postprocess.report import write_report
@@ -32,6 +33,9 @@ verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
 timing = {"engine jobs": len(manifests),
           "engine process seconds (sum)": round(sum(m["engine_seconds"] for m in manifests), 2)}
 not_run = [row for p in plans for row in p["not_run"]]
+not_available = [row for p in plans for row in p.get("not_available", [])]  # plans from before codes had none
+builds = list(snakemake.params.builds)  # config order: the rows of the report's matrix
+code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b in snakemake.params.builds.values())}
 optional = {key: pd.read_csv(snakemake.input[key])
             for key in ("convergence", "regressions", "claims", "table1", "energy_check")
             if key in snakemake.input.keys()}
@@ -40,7 +44,8 @@ if "calibration" in snakemake.input.keys():
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
 out = Path(snakemake.output.md).parent
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
-write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, **optional)
+write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, builds=builds,
+             not_available=not_available, code_notes=code_notes, **optional)
 write_junit(checks, snakemake.output.junit)
 write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
 log.info("verdict: %s (%d checks, %d failing)", verdict["verdict"], verdict["checked"], verdict["failed"])

@@ -1,0 +1,439 @@
+"""The gated checks as one compact matrix: engine builds x (law, geometry, criterion).
+
+The gate (`postprocess.gate`) makes one check per build x gated law x geometry x criterion x
+quantity (T, A, eps). With several builds that long table is unreadable; a reader wants, per
+build and per cell (law, geometry, criterion), one answer: does it pass, how far off is it at
+worst, and, where a build's code cannot express the law, why not. This module computes that
+matrix from the checks and the plans' ``not_available`` cells (pure functions, DataFrames in
+and out) and renders it as Markdown and as an HTML table. The long table stays in checks.csv.
+
+The out-of-the-box law (``default``) is compared, not gated: it has no pass/fail, so it gets a
+matrix of its own (`default_law_cells`) with its worst relative error, not a cell among the
+gated ones.
+"""
+
+from __future__ import annotations
+
+import math
+from html import escape
+from typing import Iterable, Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+from contact_model import GEOMETRIES
+from engines.run_spec import GATED_LAWS, LAW_CRITERIA
+
+from .gate import GATED_QUANTITIES, with_build
+
+CRITERIA = ("x0", "F0")
+#: The columns of a matrix cell (`matrix_cells`), in order.
+CELL_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "status", "worst_error", "worst_quantity",
+                "tolerance", "failing", "case", "at_K", "at_run", "reason"]
+#: What the cell's status is shown as (the text carries it, not the colour alone).
+SYMBOL = {"pass": "✔", "fail": "✘", "n/a": "n/a", "none": "–"}
+
+
+def _records(rows) -> pd.DataFrame:
+    """`rows` (a DataFrame, or an iterable of dicts) as a DataFrame."""
+    return rows.copy() if isinstance(rows, pd.DataFrame) else pd.DataFrame(list(rows))
+
+
+def build_order(builds: Sequence[str] | None, *tables: pd.DataFrame) -> list[str]:
+    """The builds in the order of `builds` (config `builds:`), then any other build of `tables`
+    (their `build` column) in the order it first appears."""
+    order = list(builds or ())
+    for t in tables:
+        if len(t) and "build" in t.columns:
+            order += [b for b in pd.unique(t["build"].astype(str)) if b not in order]
+    return order
+
+
+def _rank(values: Iterable, order: Sequence) -> list[int]:
+    """Position of each value in `order` (unknown values last, in their own order)."""
+    order = list(order)
+    return [order.index(v) if v in order else len(order) for v in values]
+
+
+def not_available_cells(not_available, law_criteria: Mapping[str, Sequence[str]] = LAW_CRITERIA) -> pd.DataFrame:
+    """The plans' ``not_available`` entries of gated laws as matrix cells, one per criterion.
+
+    Parameters
+    ----------
+    not_available : DataFrame or iterable of dict
+        The ``not_available`` lists of any number of plan.json files: build, engine, law,
+        geometry, reason (duplicates across cases are merged).
+    law_criteria : mapping
+        The criteria a gated law stands for (`engines.run_spec.LAW_CRITERIA`); laws absent
+        from it (``default``: compared, not gated) are left out.
+
+    Returns
+    -------
+    DataFrame with the columns CELL_COLUMNS: status 'n/a', reason the code's reason, the
+    error columns empty (NaN / '').
+    """
+    na = _records(not_available)
+    if not len(na):
+        return pd.DataFrame(columns=CELL_COLUMNS)
+    na = with_build(na)
+    na = na[na.law.isin(list(law_criteria))].drop_duplicates(["build", "law", "geometry"])
+    rows = [{"build": r.build, "engine": r.engine, "law": r.law, "geometry": r.geometry, "criterion": c,
+             "status": "n/a", "worst_error": math.nan, "worst_quantity": "", "tolerance": math.nan, "failing": "",
+             "case": "", "at_K": math.nan, "at_run": "", "reason": str(r.reason)}
+            for r in na.itertuples() for c in law_criteria[r.law]]
+    return pd.DataFrame(rows, columns=CELL_COLUMNS)
+
+
+def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] | None = None,
+                 law_criteria: Mapping[str, Sequence[str]] = LAW_CRITERIA) -> pd.DataFrame:
+    """One row per cell of the gated matrix: build x law x geometry x criterion.
+
+    A cell holds the checks of its T, A and eps. It passes when every one of them passes; its
+    error is the largest |relative error| among them.
+
+    Parameters
+    ----------
+    checks : DataFrame
+        `postprocess.gate.gate_checks` (results/checks.csv): build, engine, law, geometry,
+        criterion, quantity, max_abs_error, tolerance, pass, case, at_K, at_run (optional),
+        reason.
+    not_available : DataFrame or iterable of dict
+        The plans' ``not_available`` cells (build, engine, law, geometry, reason): a law the
+        build's code cannot express. A cell that has checks keeps them.
+    builds : sequence of str, optional
+        The build ids in config order: the order of the rows. Builds missing from it follow.
+    law_criteria : mapping
+        The criteria of each gated law (`engines.run_spec.LAW_CRITERIA`).
+
+    Returns
+    -------
+    DataFrame with the columns CELL_COLUMNS, sorted by build (config order), law (GATED_LAWS
+    order), geometry, criterion (x0, F0):
+
+    - status: 'pass' (every check of the cell passes), 'fail' or 'n/a';
+    - worst_error: max over the cell's quantities of max_abs_error (NaN when no run of the
+      cell gave a result, or n/a);
+    - worst_quantity: the quantity of worst_error ('T', 'A' or 'eps'; '' when NaN);
+    - tolerance: the tolerance of worst_quantity;
+    - failing: the failing quantities, comma-separated in T, A, eps order ('' if none);
+    - case, at_K, at_run: the case, K and run name where worst_error occurs;
+    - reason: the reasons of the failing checks, each prefixed with its quantity
+      ('T: 6.0e-04 > 0.0005 ...'), or the code's reason for an n/a cell; '' for a pass.
+    """
+    checks = with_build(checks)
+    cells = []
+    if len(checks):
+        for key, group in checks.groupby(["build", "law", "geometry", "criterion"], sort=False):
+            group = group.iloc[np.argsort(_rank(group.quantity, GATED_QUANTITIES), kind="stable")]
+            errors = group.max_abs_error.to_numpy(dtype=float)
+            worst = group.iloc[int(np.nanargmax(errors))] if not np.isnan(errors).all() else None
+            passed = group["pass"].astype(bool)
+            failing = group[~passed.to_numpy()]
+            reasons = [f"{r.quantity}: {r.reason}" for r in failing.itertuples()]
+            cells.append({**dict(zip(["build", "law", "geometry", "criterion"], key)),
+                          "engine": group.engine.iloc[0],
+                          "status": "pass" if passed.all() else "fail",
+                          "worst_error": math.nan if worst is None else float(worst.max_abs_error),
+                          "worst_quantity": "" if worst is None else str(worst.quantity),
+                          "tolerance": math.nan if worst is None else float(worst.tolerance),
+                          "failing": ", ".join(failing.quantity.astype(str)),
+                          "case": "" if worst is None else str(worst.case),
+                          "at_K": math.nan if worst is None else float(worst.at_K),
+                          "at_run": "" if worst is None or "at_run" not in group.columns
+                          or pd.isna(worst.at_run) else str(worst.at_run),
+                          "reason": "; ".join(reasons)})
+    gated = pd.DataFrame(cells, columns=CELL_COLUMNS)
+    na = not_available_cells(not_available, law_criteria)
+    if len(na) and len(gated):
+        have = set(map(tuple, gated[["build", "law", "geometry", "criterion"]].to_numpy()))
+        na = na[[k not in have for k in map(tuple, na[["build", "law", "geometry", "criterion"]].to_numpy())]]
+    out = pd.concat([df for df in (gated, na) if len(df)], ignore_index=True) if len(gated) or len(na) \
+        else pd.DataFrame(columns=CELL_COLUMNS)
+    if not len(out):
+        return out
+    order = build_order(builds, out)
+    keys = np.lexsort((_rank(out.criterion, CRITERIA), _rank(out.geometry, GEOMETRIES),
+                       _rank(out.law, GATED_LAWS), _rank(out.build, order)))
+    return out.iloc[keys].reset_index(drop=True)[CELL_COLUMNS]
+
+
+def cell_text(cell) -> str:
+    """What a cell shows: '✔ 1.2e-05', '✘ 6.0e-04 (T)' (the failing quantities), '✘ no result',
+    'n/a', or '–' for a cell of a build that has none (neither planned nor unavailable)."""
+    status = cell["status"]
+    if status in ("n/a", "none"):
+        return SYMBOL[status]
+    error = cell["worst_error"]
+    number = "no result" if error is None or (isinstance(error, float) and math.isnan(error)) else f"{error:.1e}"
+    failing = f" ({cell['failing']})" if status == "fail" and cell["failing"] and number != "no result" else ""
+    return f"{SYMBOL[status]} {number}{failing}"
+
+
+def matrix_columns(cells: pd.DataFrame) -> list[tuple[str, str, str]]:
+    """The (law, geometry, criterion) columns of the matrix, grouped law -> geometry ->
+    criterion: those with a cell (planned or n/a), in GATED_LAWS, GEOMETRIES, CRITERIA order."""
+    if not len(cells):
+        return []
+    cols = cells[["law", "geometry", "criterion"]].drop_duplicates()
+    keys = np.lexsort((_rank(cols.criterion, CRITERIA), _rank(cols.geometry, GEOMETRIES), _rank(cols.law, GATED_LAWS)))
+    return [tuple(c) for c in cols.iloc[keys].to_numpy()]
+
+
+def error_matrix(cells: pd.DataFrame) -> pd.DataFrame:
+    """The matrix as text: one row per build (the order of `cells`), one column per
+    (law, geometry, criterion) (a three-level column index), each value `cell_text` ('–' where
+    the build has no such cell)."""
+    columns = matrix_columns(cells)
+    builds = list(pd.unique(cells.build)) if len(cells) else []
+    text = {(r.build, (r.law, r.geometry, r.criterion)): cell_text(r._asdict()) for r in cells.itertuples()}
+    data = [[text.get((b, c), SYMBOL["none"]) for c in columns] for b in builds]
+    index = pd.MultiIndex.from_tuples(columns, names=["law", "geometry", "criterion"]) if columns else None
+    return pd.DataFrame(data, index=pd.Index(builds, name="build"), columns=index)
+
+
+def na_footnotes(cells: pd.DataFrame) -> dict[tuple[str, str], int]:
+    """{(engine code, reason): footnote number} of the n/a cells, numbered from 1 in the order
+    of the matrix (one note per code and reason, however many cells share it)."""
+    notes: dict[tuple[str, str], int] = {}
+    for r in cells[cells.status == "n/a"].itertuples() if len(cells) else ():
+        notes.setdefault((r.engine, r.reason), len(notes) + 1)
+    return notes
+
+
+def cell_title(cell) -> str:
+    """The hover text of a cell: pass/FAIL, the failing quantities with their reasons, and the
+    largest error with its quantity, run, case and K; an n/a cell's reason."""
+    status = cell["status"]
+    if status == "n/a":
+        return f"not available in {cell['engine']}: {cell['reason']}"
+    if status == "none":
+        return "no run of this build in this cell"
+    largest = ""
+    if cell["worst_quantity"]:
+        run = f"in run {cell['at_run']} " if cell["at_run"] else ""
+        largest = (f"largest error: {cell['worst_quantity']} {cell['worst_error']:.3e} (tolerance "
+                   f"{cell['tolerance']:g}) {run}(case {cell['case']}, K = {cell['at_K']:.4g})")
+    if status == "pass":
+        return "pass — " + (largest or "T, A and eps within tolerance")
+    return "FAIL — " + "; ".join(filter(None, [cell["reason"], largest]))
+
+
+def _superscript(n: int) -> str:
+    return str(n).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
+
+
+def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
+                    code_notes: Mapping[str, Sequence[str]] | None = None) -> list[str]:
+    """The matrix as Markdown lines: the table (the law, geometry and criterion header rows,
+    one row per build), its legend, the n/a reasons as numbered notes and each code's notes."""
+    columns = matrix_columns(cells)
+    if not columns:
+        return ["No gated check was made.", ""]
+    notes = na_footnotes(cells)
+    by_key = {(r.build, (r.law, r.geometry, r.criterion)): r._asdict() for r in cells.itertuples()}
+
+    def group_row(level):
+        out, previous = [], None
+        for c in columns:
+            label = c[: level + 1]
+            out.append(f"**{c[level]}**" if label != previous else "")
+            previous = label
+        return out
+
+    def text(build, column):
+        cell = by_key.get((build, column))
+        if cell is None:
+            return SYMBOL["none"]
+        t = cell_text(cell)
+        return t + _superscript(notes[(cell["engine"], cell["reason"])]) if cell["status"] == "n/a" else t
+
+    builds = list(pd.unique(cells.build))
+    lines = ["| build | " + " | ".join(group_row(0)) + " |", "|---|" + ":---:|" * len(columns),
+             "| | " + " | ".join(group_row(1)) + " |", "| | " + " | ".join(group_row(2)) + " |"]
+    lines += [f"| **{b}** | " + " | ".join(text(b, c) for c in columns) + " |" for b in builds]
+    has_none = any((b, c) not in by_key for b in builds for c in columns)
+    lines += ["", legend(tolerance, na=bool(notes), none=has_none), ""]
+    if notes:
+        lines += ["Not available (the build's code cannot express the law; nothing is run, nothing is gated):", ""]
+        lines += [f"{n}. {code}: {reason}" for (code, reason), n in notes.items()] + [""]
+    lines += code_notes_markdown(code_notes, list(pd.unique(cells.engine)))
+    return lines
+
+
+def legend(tolerance: Mapping[str, float], na: bool = True, none: bool = True) -> str:
+    """The matrix's legend (Markdown); the n/a and '–' entries only where the matrix has such
+    cells (`na`, `none`)."""
+    tolerances = ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES)
+    return (f"✔ pass: T, A and eps all within tolerance ({tolerances}); ✘ fail, with the failing quantities in "
+            "brackets; the number is the cell's worst |relative error| over T, A and eps, every case and every K "
+            "(engine vs reference solver)."
+            + (" n/a: the build's code cannot express the law (the reasons below)." if na else "")
+            + (" – : the build has no run in that cell." if none else "")
+            + " Every check, with the K, case and run of its worst error: [checks.csv](checks.csv).")
+
+
+def code_notes_markdown(code_notes: Mapping[str, Sequence[str]] | None, codes: Sequence[str]) -> list[str]:
+    """Each code's notes (`engines.codes.EngineCode.notes`) as a Markdown list, codes in order."""
+    items = [(c, n) for c in codes for n in (code_notes or {}).get(c, ())]
+    if not items:
+        return []
+    return ["How the codes run the study:", ""] + [f"- **{c}**: {n}" for c, n in items] + [""]
+
+
+def matrix_html(cells: pd.DataFrame) -> str:
+    """The matrix as an HTML table (class 'matrix'): three header rows (law, geometry,
+    criterion; the build column spans them), one row per build; each cell a <td> of class
+    'pass', 'fail', 'na' or 'none' whose text is `cell_text` and whose title is `cell_title`,
+    n/a cells with the number of their note (`na_footnotes`) in a <sup>."""
+    columns = matrix_columns(cells)
+    if not columns:
+        return "<p>No gated check was made.</p>"
+    notes = na_footnotes(cells)
+    by_key = {(r.build, (r.law, r.geometry, r.criterion)): r._asdict() for r in cells.itertuples()}
+
+    def spans(level):
+        out = []
+        for c in columns:
+            if out and out[-1][0] == c[: level + 1]:
+                out[-1][1] += 1
+            else:
+                out.append([c[: level + 1], 1])
+        return out
+
+    # A thicker line where a law starts, so that the groups read as groups.
+    law_starts = {i for i, c in enumerate(columns) if i == 0 or columns[i - 1][0] != c[0]}
+    geometry_starts = {i for i, c in enumerate(columns) if i == 0 or columns[i - 1][:2] != c[:2]}
+
+    def edge(i):
+        return " law-start" if i in law_starts else " geometry-start" if i in geometry_starts else ""
+
+    head = ['<tr><th rowspan="3" class="build">build</th>']  # every group of the law row starts a law
+    head += [f'<th colspan="{n}" class="law law-start">{escape(key[0])}</th>' for key, n in spans(0)]
+    head += ["</tr>\n<tr>"]
+    first = 0
+    for key, n in spans(1):
+        head.append(f'<th colspan="{n}" class="geometry{edge(first)}">{escape(key[1])}</th>')
+        first += n
+    head += ["</tr>\n<tr>"]
+    head += [f'<th class="criterion{edge(i)}">{escape(c[2])}</th>' for i, c in enumerate(columns)] + ["</tr>"]
+    body = []
+    for b in pd.unique(cells.build):
+        tds = []
+        for i, c in enumerate(columns):
+            cell = by_key.get((b, c), {"status": "none"})
+            status = cell["status"]
+            text = escape(cell_text(cell))
+            if status == "n/a":
+                text += f"<sup>{notes[(cell['engine'], cell['reason'])]}</sup>"
+            css = {"n/a": "na"}.get(status, status)
+            tds.append(f'<td class="{css}{edge(i)}" title="{escape(cell_title(cell), quote=True)}">{text}</td>')
+        body.append(f'<tr><th scope="row" class="build">{escape(str(b))}</th>{"".join(tds)}</tr>')
+    return ('<table class="matrix">\n<thead>\n' + "".join(head) + "\n</thead>\n<tbody>\n" + "\n".join(body)
+            + "\n</tbody>\n</table>")
+
+
+def default_law_cells(table: pd.DataFrame, not_available=(), builds: Sequence[str] | None = None) -> pd.DataFrame:
+    """The out-of-the-box law, compared (not gated): one row per build x geometry.
+
+    Parameters
+    ----------
+    table : DataFrame
+        summary.csv: one row per landed run and criterion (build, engine, law, geometry,
+        criterion, case, run, K, err_T, err_A, err_eps).
+    not_available : DataFrame or iterable of dict
+        The plans' ``not_available`` cells; those of law 'default' become 'n/a' rows.
+    builds : sequence of str, optional
+        The build ids in config order.
+
+    Returns
+    -------
+    DataFrame, sorted by build (config order) and geometry, with columns build, engine,
+    geometry, criterion (the one its default law stands for), status ('compared' or 'n/a'),
+    worst_error (the signed relative error of largest magnitude over T, A and eps, every case
+    and K), worst_quantity, case, at_K, at_run (where it occurs), reason (why n/a; '').
+    """
+    columns = ["build", "engine", "geometry", "criterion", "status", "worst_error", "worst_quantity", "case",
+               "at_K", "at_run", "reason"]
+    rows = []
+    d = with_build(table)
+    d = d[d.law == "default"] if len(d) else d
+    for (build, geometry), group in (d.groupby(["build", "geometry"], sort=False) if len(d) else ()):
+        errors = group[[f"err_{q}" for q in GATED_QUANTITIES]].to_numpy(dtype=float)
+        if np.isnan(errors).all():
+            i, j, value = 0, 0, math.nan
+        else:
+            i, j = np.unravel_index(np.nanargmax(np.abs(errors)), errors.shape)
+            value = float(errors[i, j])
+        r = group.iloc[int(i)]
+        rows.append({"build": build, "engine": r.engine, "geometry": geometry, "criterion": r.criterion,
+                     "status": "compared", "worst_error": value,
+                     "worst_quantity": "" if math.isnan(value) else GATED_QUANTITIES[int(j)],
+                     "case": str(r.case), "at_K": float(r.K), "at_run": str(r.run) if "run" in group else "",
+                     "reason": ""})
+    na = _records(not_available)
+    if len(na):
+        na = with_build(na)
+        na = na[na.law == "default"].drop_duplicates(["build", "geometry"])
+        rows += [{"build": r.build, "engine": r.engine, "geometry": r.geometry, "criterion": "", "status": "n/a",
+                  "worst_error": math.nan, "worst_quantity": "", "case": "", "at_K": math.nan, "at_run": "",
+                  "reason": str(r.reason)} for r in na.itertuples()]
+    out = pd.DataFrame(rows, columns=columns)
+    if not len(out):
+        return out
+    keys = np.lexsort((_rank(out.geometry, GEOMETRIES), _rank(out.build, build_order(builds, out))))
+    return out.iloc[keys].reset_index(drop=True)
+
+
+def _default_text(cell) -> str:
+    if cell["status"] == "n/a":
+        return "n/a"
+    if math.isnan(cell["worst_error"]):
+        return "no result"
+    return f"{cell['worst_quantity']} {cell['worst_error']:+.1%} ({cell['criterion']})"
+
+
+def _default_title(cell) -> str:
+    if cell["status"] == "n/a":
+        return f"not available in {cell['engine']}: {cell['reason']}"
+    return (f"largest relative error, {cell['worst_quantity']}: {cell['worst_error']:+.3e} at K = {cell['at_K']:.4g}, "
+            f"case {cell['case']}" + (f", run {cell['at_run']}" if cell["at_run"] else "") + "; compared, not gated")
+
+
+def default_matrix_markdown(cells: pd.DataFrame) -> list[str]:
+    """The default-law matrix as Markdown: one row per build, one column per geometry, each
+    cell the quantity and signed relative error of largest magnitude, with the criterion."""
+    if not len(cells):
+        return []
+    geometries = [g for g in GEOMETRIES if g in set(cells.geometry)]
+    by_key = {(r.build, r.geometry): r._asdict() for r in cells.itertuples()}
+    lines = ["| build | " + " | ".join(f"**{g}**" for g in geometries) + " |", "|---|" + ":---:|" * len(geometries)]
+    for b in pd.unique(cells.build):
+        lines.append(f"| **{b}** | " + " | ".join(_default_text(by_key[(b, g)]) if (b, g) in by_key else "–"
+                                                   for g in geometries) + " |")
+    reasons = cells[cells.status == "n/a"].drop_duplicates(["engine", "reason"])
+    lines += [""] + [f"n/a in {r.engine}: {r.reason}" for r in reasons.itertuples()]
+    return lines + [""] if len(reasons) else lines
+
+
+def default_matrix_html(cells: pd.DataFrame) -> str:
+    """The default-law matrix as an HTML table (class 'matrix default'); cells of class
+    'compared' or 'na', each with a hover title."""
+    if not len(cells):
+        return ""
+    geometries = [g for g in GEOMETRIES if g in set(cells.geometry)]
+    by_key = {(r.build, r.geometry): r._asdict() for r in cells.itertuples()}
+    head = '<tr><th class="build">build</th>' + "".join(f'<th class="geometry">{escape(g)}</th>' for g in geometries)
+    body = []
+    for b in pd.unique(cells.build):
+        tds = []
+        for g in geometries:
+            cell = by_key.get((b, g))
+            if cell is None:
+                tds.append('<td class="none" title="no run of this build">–</td>')
+                continue
+            css = "na" if cell["status"] == "n/a" else "compared"
+            tds.append(f'<td class="{css}" title="{escape(_default_title(cell), quote=True)}">'
+                       f"{escape(_default_text(cell))}</td>")
+        body.append(f'<tr><th scope="row" class="build">{escape(str(b))}</th>{"".join(tds)}</tr>')
+    return ('<table class="matrix default">\n<thead>' + head + "</tr></thead>\n<tbody>\n" + "\n".join(body)
+            + "\n</tbody>\n</table>")
