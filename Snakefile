@@ -50,7 +50,10 @@ from contact_model import load_case  # noqa: E402
 from engines.plan import plan_runs  # noqa: E402
 
 EXTRAS = config["extras"]
+import engines.codes  # noqa: E402
 from engines.codes import CODES  # noqa: E402
+
+CODES_FILE = engines.codes.__file__  # the engine codes' table: a plan input (the laws a code can run)
 
 # The deck files of each engine code (engines.codes): a change reruns that code's jobs.
 DECKS = {name: sorted(f for pattern in c.decks for f in glob.glob(pattern)) for name, c in CODES.items()}

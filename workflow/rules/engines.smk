@@ -3,7 +3,7 @@
 
 rule plan:
     """The case's runs, checked and listed (results/<case>/plan.json)."""
-    input: case=lambda w: CASES[w.case]
+    input: case=lambda w: CASES[w.case], codes=CODES_FILE  # which laws each code can run
     output: "results/{case}/plan.json"
     log: "logs/{case}/plan.log"
     params: settings=SETTINGS
