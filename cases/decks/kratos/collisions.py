@@ -229,7 +229,7 @@ def simulate(run):
 def version():
     return "KratosMultiphysics %s DEMApplication %s (kernel %s)" % (
         importlib.metadata.version("KratosMultiphysics"), importlib.metadata.version("KratosDEMApplication"),
-        KM.Kernel.Version())
+        KM.Kernel.Version().replace('"', ""))  # the kernel says 10.4."4"--0-Release-x86_64
 
 
 # Kratos prints a page per run at INFO; warnings and errors are what the log needs.
