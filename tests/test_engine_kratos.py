@@ -215,3 +215,24 @@ def test_an_error_inside_kratos_fails_that_run_only(tmp_path, monkeypatch):
     assert f"{bad.name}: kratos: RuntimeError: Error: Argument must be a number" in str(err)
     assert "kratos.log" in str(err)
     assert f"RUN FAILED {bad.name}: " in (tmp_path / "kratos.log").read_text()
+
+
+def test_time_step_convergence_runs_hertz_alone_at_second_order(tmp_path):
+    """The convergence extra (plan_at_velocity) gives Kratos its K = 0 runs only, with the law
+    'elastic'; they converge at second order (measured 2.00 in T, 2.01 in A over dt = T_e/250 ..
+    T_e/1000; asserted 1.9 .. 2.1)."""
+    from contact_model import load_case
+    from engines.plan import plan_at_velocity
+    from postprocess.convergence import observed_order
+
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "steel.yaml")
+    runs = plan_at_velocity(case, "kratos", [0.0, 0.1, 0.5], [250, 500, 1000], 1.0, "convergence",
+                            build="kratos-10.4")
+    assert {(r.law, r.K, r.time_step_factor) for r in runs} == {("elastic", 0.0, f) for f in (250, 500, 1000)}
+    assert len(runs) == 2 * 3  # both geometries
+    plane = [r for r in runs if r.pair.geometry == "sphere-plane"]
+    sweep = kratos.run_kratos(plane, tmp_path).raise_first()
+    errors = [relative_errors(dump_metrics(sweep.dumps[r.name])[1], r) for r in plane]
+    dt = [1.0 / r.time_step_factor for r in plane]
+    for q in ("T_x0", "A"):
+        assert 1.9 < observed_order(dt, [e[q] for e in errors]) < 2.1, q
