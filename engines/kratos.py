@@ -27,6 +27,12 @@ gated) and 'default' with the matched restitution (clipped at zero: criterion F0
 The process runs with OMP_NUM_THREADS=1 (a two-body problem; with more threads Kratos's OpenMP
 loops spin and a run takes ten times longer) and PYTHONUNBUFFERED, its output streamed to
 kratos.log under a time limit scaled to the sweep (engines/engine_process.py).
+
+Time integration: Kratos's default Symplectic_Euler
+(applications/DEMApplication/custom_strategies/schemes/symplectic_euler_scheme.cpp):
+v_{n+1} = v_n + F(x_n) dt / m, x_{n+1} = x_n + v_{n+1} dt. After a step a node holds x_{n+1}
+and the force F(x_n), so the driver pairs each position with the force computed from it, and
+records the full-step rate d(delta)/dt (t_n) = r(t_n + dt/2) + F_n dt / (2 M*) [m/s].
 """
 
 from __future__ import annotations

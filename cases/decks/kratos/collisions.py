@@ -20,9 +20,9 @@
 # with Y* = Y1 Y2 / (Y2 (1 - nu1^2) + Y1 (1 - nu2^2)) for two spheres and for a sphere and a
 # wall alike (the wall's Y, nu are its own properties), R* = R1 R2 / (R1 + R2) for two spheres
 # and R* = R - ini_delta (= R here: the sphere starts clear of the wall) against a wall.
-# gamma (DAMPING_GAMMA) is set by sphere_strategy.py (ModifySubProperties ->
-# GammaForHertzThornton) from the material relation's COEFFICIENT_OF_RESTITUTION e with
-# Thornton et al.'s fit; e > 0.999 gives gamma = 0 exactly. The host sends Y = 2 E*, nu = 0 on
+# gamma (DAMPING_GAMMA) is set by applications/DEMApplication/python_scripts/sphere_strategy.py
+# (ModifySubProperties -> GammaForHertzThornton) from the material relation's
+# COEFFICIENT_OF_RESTITUTION e with Thornton et al.'s fit; e > 0.999 gives gamma = 0 exactly. The host sends Y = 2 E*, nu = 0 on
 # every body, so that Y* = E*, and e = 1 for law 'elastic' (Hertz alone) or the matched
 # restitution for law 'default'. Friction is zero and rotation is off.
 #
@@ -31,9 +31,10 @@
 # model part, fixed), whose vertices lie 10 R from the contact point, so the sphere only meets
 # its interior.
 #
-# Time: Kratos's default translational scheme, Symplectic_Euler, in one solution step n -> n+1
-# computes the contact force F_n from the positions x_n, then v_{n+1} = v_n + F_n dt / m and
-# x_{n+1} = x_n + v_{n+1} dt. So after step n+1 a node holds x_{n+1}, v_{n+1} = v(t_n + dt/2)
+# Time: Kratos's default translational scheme, Symplectic_Euler
+# (applications/DEMApplication/custom_strategies/schemes/symplectic_euler_scheme.cpp,
+# UpdateTranslationalVariables), in one solution step n -> n+1 computes the contact force F_n
+# from the positions x_n, then v_{n+1} = v_n + F_n dt / m and x_{n+1} = x_n + v_{n+1} dt. So after step n+1 a node holds x_{n+1}, v_{n+1} = v(t_n + dt/2)
 # and TOTAL_FORCES = F_n: the force lags the position by one step. Row n of the record pairs
 # x_n with F_n, and gives the full-step rate d(delta)/dt(t_n) = r(t_n + dt/2) + F_n dt / (2 M*)
 # (the force slows the approach: d^2 delta/dt^2 = -F / M*).
