@@ -132,11 +132,11 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
             "proportional to delta^(1/4) d(delta)/dt, not delta^(1/2) d(delta)/dt; only the elastic law (restitution "
             "1, gamma = 0) and its out-of-the-box law (restitution matched, force clipped at zero) run.",
             "Kratos represents the plane as one fixed RigidFace3D3N triangle in x = 0 (a rigid wall of the FEM "
-            "model part, Young's modulus 2 E*, Poisson's ratio 0 as the sphere's, so that Y* = E*), its vertices "
-            "10 R from the contact point.",
+            "model part, Young's modulus 2 E*, Poisson's ratio 0 as the sphere's, so that Y* = E*), whose edges "
+            "lie about 7 R from the contact point.",
             "Kratos runs as a Python package (the build's executable is the Python of .venv-kratos/), one process "
             "per sweep with a fresh Model per run, OMP_NUM_THREADS=1, Symplectic_Euler time integration "
-            "(force and position re-paired: the force of step n acts on the positions of step n).",
+            "(each recorded position is paired with the force Kratos computed from it, one step later).",
         )),
 )}
 

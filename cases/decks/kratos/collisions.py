@@ -22,14 +22,14 @@
 # and R* = R - ini_delta (= R here: the sphere starts clear of the wall) against a wall.
 # gamma (DAMPING_GAMMA) is set by applications/DEMApplication/python_scripts/sphere_strategy.py
 # (ModifySubProperties -> GammaForHertzThornton) from the material relation's
-# COEFFICIENT_OF_RESTITUTION e with Thornton et al.'s fit; e > 0.999 gives gamma = 0 exactly. The host sends Y = 2 E*, nu = 0 on
-# every body, so that Y* = E*, and e = 1 for law 'elastic' (Hertz alone) or the matched
-# restitution for law 'default'. Friction is zero and rotation is off.
+# COEFFICIENT_OF_RESTITUTION e with Thornton et al.'s fit; e > 0.999 gives gamma = 0 exactly.
+# The host sends Y = 2 E*, nu = 0 on every body, so that Y* = E*, and e = 1 for law 'elastic'
+# (Hertz alone) or the matched restitution for law 'default'. Friction is zero, rotation off.
 #
 # Geometry (as in the other decks): body A, a sphere at x1 < 0, moves +x; body B is a sphere at
 # x2 > 0 moving -x, or the plane x = 0: one RigidFace3D3N triangle (a rigid wall of the FEM
-# model part, fixed), whose vertices lie 10 R from the contact point, so the sphere only meets
-# its interior.
+# model part, fixed) with vertices (0, -L, -L), (0, 2L, -L), (0, -L, 2L), L = 10 R: the contact
+# point (0, 0, 0) is L / sqrt(2) ~ 7 R from its nearest edge, so the sphere only meets its face.
 #
 # Time: Kratos's default translational scheme, Symplectic_Euler
 # (applications/DEMApplication/custom_strategies/schemes/symplectic_euler_scheme.cpp,
@@ -132,7 +132,7 @@ def write_model(run, folder):
         if two:
             f.write(sub_model_part("spheres_b", [2], [2]))
     if not two:
-        L = 10.0 * run["R1"]  # the contact point (0, 0, 0) lies well inside the triangle
+        L = 10.0 * run["R1"]  # the contact point (0, 0, 0) lies ~7 R inside the triangle
         with open(os.path.join(folder, PROBLEM + "DEM_FEM_boundary.mdpa"), "w") as f:
             f.write("Begin ModelPartData\nEnd ModelPartData\n\nBegin Properties 0\nEnd Properties\n\n")
             f.write("Begin Nodes\n 1 0.0 %r %r\n 2 0.0 %r %r\n 3 0.0 %r %r\nEnd Nodes\n\n" % (-L, -L, 2 * L, -L, -L, 2 * L))
