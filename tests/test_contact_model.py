@@ -89,6 +89,25 @@ def test_engine_parameters_reproduce_the_model_force():
         pair.engine_parameters("nosuch")
 
 
+@pytest.mark.parametrize("geometry", ["sphere-sphere", "sphere-plane"])
+def test_kratos_parameters_give_the_hertz_force(geometry):
+    """Kratos's DEM_D_Hertz_viscous_Coulomb with young = 2 E*, poisson = 0 on both bodies (the wall
+    too): Y* = Y1 Y2 / (Y2 (1 - nu1^2) + Y1 (1 - nu2^2)) = E*, kn = 2 Y* sqrt(R* delta) and
+    F_el = (2/3) kn delta = (4/3) E* sqrt(R*) delta^{3/2}, to round-off (1e-13)."""
+    E, R = STEEL["E"], STEEL["R"]
+    other = Body(R, 7800) if geometry == "sphere-sphere" else Body(math.inf, math.inf)
+    pair = ContactPair(geometry, Body(R, 7800), other, E, STEEL["eta"])
+    k = pair.engine_parameters("kratos")
+    assert k == {"young": 2 * E, "poisson": 0.0}  # eta has no Kratos parameter
+    Y1 = Y2 = k["young"]
+    nu1 = nu2 = k["poisson"]
+    Y_star = Y1 * Y2 / (Y2 * (1 - nu1**2) + Y1 * (1 - nu2**2))
+    assert Y_star == pytest.approx(E, rel=1e-15)
+    for delta in (1e-9, 3e-6, 1e-4):
+        kn = 2 * Y_star * math.sqrt(pair.R * delta)
+        assert 2 / 3 * kn * delta == pytest.approx(4 / 3 * E * math.sqrt(pair.R) * delta**1.5, rel=1e-13)
+
+
 def test_hertz_time_tau_is_the_reference_constant():
     E, R, M = STEEL["E"], STEEL["R"], STEEL["M"]
     assert cs.hertz_time(E, R, M, 1.0) == pytest.approx(HERTZ_TAU * cs.hertz_overlap(E, R, M, 1.0), rel=1e-15)

