@@ -86,6 +86,7 @@ class EngineCode:
 #   LIGGGHTS 3.8.0   start-up 0.35 s, 7.3 us/step (2 runs of 25 300 steps: 0.71 s), ~1 ms/run
 #   LAMMPS 29Sep2021 start-up 0.35 s, 8.5 us/step (2 runs of 25 300 steps: 0.78 s), ~1 ms/run
 #   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
+#   ESyS 2.3.5       (mpirun -np 2) MEASURE
 CODES: dict[str, EngineCode] = {c.name: c for c in (
     EngineCode(
         name="liggghts", banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
@@ -106,6 +107,27 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         default_criterion="x0",  # no limit_damping by default: the tail is kept
         driver="engines.lammps:run_lammps", decks=("cases/decks/lammps/*.in",),
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
+    EngineCode(
+        name="esys", banner=re.compile(r"^ESyS-Particle \S+.*$", re.M),
+        # esysparticle is ESyS's Python interpreter (its --version is Python's): ask the esys
+        # package. Debian's 2.3.5 reports "2.3.4" (esys.lsm.util.InstallInfo, LsmMpi.getLsmVersion).
+        version_args=("-c", "import esys.lsm.util.InstallInfo as i; print(i.pkgName, i.version)"),
+        install_hint="install Debian's build with `sudo apt-get install esys-particle` (or `make engines`)",
+        default_criterion="x0",  # HertzMindlinViscoPrms does not clip its force: the tail is kept
+        driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
+        cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=100e-6),
+        unavailable={
+            "viscoelastic": "ESyS's HertzianViscoElastic force is clipped at zero (no attractive tail): "
+                            "the x0 trajectory cannot be run; its F0 trajectory is viscoelastic_clipped",
+        },
+        notes=(
+            "ESyS has no Hertzian wall (its walls are linear springs): the plane is a fixed (non-dynamic) "
+            "sphere of radius 1000 R, its contact modulus scaled by sqrt(R / R*_esys) = sqrt(1.001) so that "
+            "E sqrt(R*) is the plane's: the force of a head-on impact is the sphere-plane force, exactly "
+            "(contact_model.engine_parameters.esys_plane_as_sphere).",
+            "A sweep runs in one ESyS process (mpirun -np 2: a master and a worker); each run has its own "
+            "particles and tagged interaction group in one LsmMpi.",
+        )),
 )}
 
 
