@@ -86,7 +86,9 @@ class EngineCode:
 #   LIGGGHTS 3.8.0   start-up 0.35 s, 7.3 us/step (2 runs of 25 300 steps: 0.71 s), ~1 ms/run
 #   LAMMPS 29Sep2021 start-up 0.35 s, 8.5 us/step (2 runs of 25 300 steps: 0.78 s), ~1 ms/run
 #   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
-#   ESyS 2.3.5       (mpirun -np 2) MEASURE
+#   ESyS 2.3.5       (mpirun -np 2 esysparticle) start-up 0.7-1.0 s; 130-210 us/step on a quiet machine, up to
+#                    1.4 ms/step under load (a master-worker MPI round trip per step, two with the state
+#                    query; steel: 24 runs of ~1 310 steps in 29-43 s at load 7 on 2 cores), ~10 ms/run
 CODES: dict[str, EngineCode] = {c.name: c for c in (
     EngineCode(
         name="liggghts", banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
@@ -109,13 +111,14 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
     EngineCode(
         name="esys", banner=re.compile(r"^ESyS-Particle \S+.*$", re.M),
-        # esysparticle is ESyS's Python interpreter (its --version is Python's): ask the esys
-        # package. Debian's 2.3.5 reports "2.3.4" (esys.lsm.util.InstallInfo, LsmMpi.getLsmVersion).
-        version_args=("-c", "import esys.lsm.util.InstallInfo as i; print(i.pkgName, i.version)"),
+        # esysparticle is ESyS's Python interpreter (its --version is Python's): import the
+        # compiled esys.lsm and print the package's version. Debian's 2.3.5 reports "2.3.4"
+        # (esys.lsm.util.InstallInfo and LsmMpi.getLsmVersion were not bumped upstream).
+        version_args=("-c", "import esys.lsm, esys.lsm.util.InstallInfo as i; print(i.pkgName, i.version)"),
         install_hint="install Debian's build with `sudo apt-get install esys-particle` (or `make engines`)",
         default_criterion="x0",  # HertzMindlinViscoPrms does not clip its force: the tail is kept
         driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
-        cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=100e-6),
+        cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=500e-6),
         unavailable={
             "viscoelastic": "ESyS's HertzianViscoElastic force is clipped at zero (no attractive tail): "
                             "the x0 trajectory cannot be run; its F0 trajectory is viscoelastic_clipped",

@@ -92,12 +92,15 @@ def run_esys(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     workdir.mkdir(parents=True, exist_ok=True)
     log = workdir / "esys.log"
     status_path = workdir / "esys-status.json"
-    status_path.unlink(missing_ok=True)
+    progress_path = workdir / "esys-progress.txt"
+    for path in (status_path, progress_path):
+        path.unlink(missing_ok=True)
     raws = {s.name: workdir / f"{s.name}.esys.csv" for s in specs}
     for s in specs:
         (workdir / f"{s.name}.csv").unlink(missing_ok=True)
         raws[s.name].unlink(missing_ok=True)
-    job = {"runs": [job_entry(s, raws[s.name]) for s in specs], "status": str(status_path)}
+    job = {"runs": [job_entry(s, raws[s.name]) for s in specs], "status": str(status_path),
+           "progress": str(progress_path)}
     job_path = workdir / "esys-job.json"
     job_path.write_text(json.dumps(job, indent=1))
     cmd = mpirun_command(mpi, exe, DRIVER, str(job_path))
@@ -115,7 +118,10 @@ def run_esys(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     build = re.search(r"^ESyS-Particle .*$", printed, flags=re.M)
     build = build.group(0).strip() if build else None
     version = status["engine_version"] if status else build or "ESyS-Particle (version not printed)"
-    started = re.findall(r"^RUN (\S+)$", printed, flags=re.M)
+    # The run in progress: from the deck's progress file, not the log, where mpirun forwards
+    # the ranks' stdout and stderr in chunks that can splice a crash's backtrace into a line.
+    progress = progress_path.read_text(errors="replace") if progress_path.exists() else ""
+    started = re.findall(r"^RUN (\S+)$", progress, flags=re.M)
     stopped_in = (started[-1] if started else specs[0].name) if stop else None
     reached_stop = False
     for spec, entry in zip(specs, job["runs"]):
@@ -132,7 +138,7 @@ def run_esys(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
         if status is not None:
             st = status["runs"].get(spec.name, {"ok": False, "error": "no status reported"})
         else:  # ESyS stopped later: this run finished, and wrote its record unless it failed
-            failed = re.search(rf"^RUN FAILED {re.escape(spec.name)}: (.*)$", printed, flags=re.M)
+            failed = re.search(rf"^RUN FAILED {re.escape(spec.name)}: (.*)$", progress, flags=re.M)
             st = {"ok": False, "error": failed.group(1)} if failed else {"ok": True}
         sweep.finish(spec, lambda: _esys_dump(spec, entry, st, raws[spec.name], workdir, log, version))
     return sweep

@@ -34,10 +34,11 @@ def config_with(builds):
     return {**config, "builds": builds}
 
 
-def test_default_config_has_the_four_builds():
+def test_default_config_has_the_five_builds():
     builds = load_builds(yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["builds"], ROOT)
     assert [(b.id, b.code) for b in builds] == [("liggghts-3.8", "liggghts"), ("yade-2023", "yade"),
-                                                ("lammps-2021", "lammps"), ("lammps-2025", "lammps")]
+                                                ("lammps-2021", "lammps"), ("lammps-2025", "lammps"),
+                                                ("esys-2.3.5", "esys")]
     assert builds[3].executable == str(ROOT / ".venv-lammps" / "bin" / "lmp")  # relative to the project
     assert builds[2].executable == "lmp"  # a name stays a name: looked up on PATH
 

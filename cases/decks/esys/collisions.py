@@ -7,7 +7,8 @@
 # from the host's contact model (contact_model.engine_parameters). For each run this script
 # writes <out> (one row per step: time, overlap, d(overlap)/dt at full steps, normal force)
 # and, at the end, <status> (JSON). It prints its version first and "RUN <name>" when a run
-# starts, so that the host can name the run in progress if ESyS hangs or crashes.
+# starts, and writes the same line to <progress>, so that the host can name the run in
+# progress if ESyS hangs or crashes (in the log, mpirun may splice a rank's stderr into it).
 #
 # One process, many runs: a second LsmMpi cannot be made after sim.exit() (the worker has
 # left; the master waits for it forever), so the whole sweep shares one LsmMpi. The Hertzian
@@ -32,10 +33,16 @@
 # (ESyS has no Hertzian wall: its walls are linear springs). The host scales the modulus so
 # that the force is exactly the plane's for this head-on impact (see engines/esys.py).
 #
+# Overlap: r1 + r2 - (x2 - x1), with ESyS's positions. The gap at t = 0 is a whole number of
+# steps of approach, so one sample falls where the bodies just touch: there the difference is
+# a few ulps of r1 + r2 (e.g. +5e-18 m for two 6.35 mm spheres), and the force ESyS computes
+# from it (~delta^{3/2}, ~1e-16 N) changes no velocity by even one ulp, so the record would show
+# an overlap without a force. Overlaps within ROUNDOFF (r1 + r2) of zero are recorded as 0.
+#
 # Time: ESyS integrates with symplectic Euler (Model/Particle.cpp, CParticle::integrate):
 # F_n = F(x_n, v_n); v_{n+1} = v_n + F_n dt / m; x_{n+1} = x_n + v_{n+1} dt. So v_n is the
-# velocity at t_n - dt/2 and the force of step n (taken from x_n) is recovered exactly from
-# the velocity jump, F_n = M* (w_n - w_{n+1}) / dt with w = d(overlap)/dt (M* = m1 m2 / (m1 + m2),
+# velocity at t_n - dt/2 and the force of step n (taken from x_n) is recovered from the
+# velocity jump (to the rounding of the velocities: 1e-10 of the force a step into contact), F_n = M* (w_n - w_{n+1}) / dt with w = d(overlap)/dt (M* = m1 m2 / (m1 + m2),
 # m1 for the plane). Row n of the record: t_n = n dt, overlap x_n, the full-step rate
 # (w_n + w_{n+1}) / 2 and F_n.
 import json
@@ -46,6 +53,9 @@ import time
 from esys.lsm import HertzMindlinViscoPrms, HertzianViscoElasticPrms, LsmMpi, NRotSphere
 from esys.lsm.util import BoundingBox, Vec3
 import esys.lsm.util.InstallInfo as install_info
+
+#: Overlaps within this fraction of the contact distance r1 + r2 are rounding: recorded as 0.
+ROUNDOFF = 1e-15
 
 with open(sys.argv[1]) as f:
     JOB = json.load(f)
@@ -111,7 +121,10 @@ def run_one(sim, k, run):
     def overlap_and_rate():
         s = body_state(sim, [a, b])
         (xa, va), (xb, vb) = s[a], s[b]
-        return contact - (xb - xa), va - vb
+        overlap = contact - (xb - xa)
+        if abs(overlap) <= ROUNDOFF * contact:
+            overlap = 0.0  # touching, to the rounding of the positions (see "Overlap" above)
+        return overlap, va - vb
 
     rows = []
     x, w = overlap_and_rate()
@@ -128,7 +141,10 @@ def run_one(sim, k, run):
 status = {"engine_version": "%s %s" % (install_info.pkgName, install_info.version), "runs": {}}
 print(status["engine_version"], flush=True)
 sim = make_simulation()
+progress = open(JOB["progress"], "a")
 for k, run in enumerate(RUNS):
+    progress.write("RUN %s\n" % run["name"])
+    progress.flush()
     print("RUN %s" % run["name"], flush=True)
     started = time.time()
     try:
@@ -140,6 +156,8 @@ for k, run in enumerate(RUNS):
     except Exception as err:  # report per run; the host fails that run with this log
         status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
         print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
+        progress.write("RUN FAILED %s: %s\n" % (run["name"], str(err).replace("\n", " ")))
+        progress.flush()
 with open(JOB["status"], "w") as f:
     json.dump(status, f, indent=1)
 sim.exit()
