@@ -24,6 +24,7 @@ from pathlib import Path
 
 from contact_model.engine_parameters import esys_plane_as_sphere
 
+from .codes import law_unavailable
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, describe_exit, log_tail, run_logged, stop_message, time_limit
 from .errors import EngineRunFailed, require_executable
 from .finish_run import Sweep, load_record, write_run_dump
@@ -86,6 +87,10 @@ def run_esys(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
         raise ValueError("run_esys got runs for another engine")
     if len({s.name for s in specs}) != len(specs):
         raise ValueError("run_esys got two runs with the same name")
+    for s in specs:
+        if law_unavailable("esys", s.law):
+            raise ValueError(f"run_esys got a run of law {s.law!r} ({s.name}), which ESyS cannot express: "
+                             f"{law_unavailable('esys', s.law)}")
     exe = require_executable("esys", executable)
     mpi = require_executable("esys", mpirun)
     workdir = Path(workdir).resolve()

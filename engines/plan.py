@@ -251,15 +251,18 @@ def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, veloc
                      purpose: str, build: str = "") -> list[RunSpec]:
     """Runs of the case's material and geometries at one impact velocity, the viscosity set for
     each K (K = 0: elastic), at every time-step factor (the convergence study, the paper's
-    Fig. 4). `purpose` tags the case name."""
+    Fig. 4). `purpose` tags the case name. The law is the model under test, 'viscoelastic';
+    a code that cannot keep the attractive tail (`engines.codes`, ``unavailable``) runs
+    'viscoelastic_clipped' (criterion F0 only) instead."""
     from contact_model import ContactPair
     from contact_model.collision_scales import viscosity_for_dissipation
 
+    law = "viscoelastic" if law_unavailable(engine, "viscoelastic") is None else "viscoelastic_clipped"
     runs = []
     for pair in case.pairs:
         for K in K_values:
             eta = viscosity_for_dissipation(pair.E, pair.R, pair.M, velocity, K) if K > 0 else 0.0
             tuned = ContactPair(pair.geometry, pair.body_1, pair.body_2, pair.E, eta)
-            runs += [RunSpec(f"{case.name}-{purpose}", engine, "viscoelastic", tuned, velocity, f, build=build)
+            runs += [RunSpec(f"{case.name}-{purpose}", engine, law, tuned, velocity, f, build=build)
                      for f in time_step_factors]
     return runs

@@ -98,10 +98,21 @@ def test_default_law_restitutes_about_what_the_user_asked_at_every_velocity(swee
     assert solve_collision(0.1 * 0.01 ** 0.2)["eps_F0"] - slow.eps_x0 > 0.05
 
 
-def test_viscoelastic_with_tail_is_unavailable_with_its_reason():
+def test_viscoelastic_with_tail_is_unavailable_with_its_reason(tmp_path):
     assert "clipped at zero" in law_unavailable("esys", "viscoelastic")
     for law in ("viscoelastic_clipped", "elastic", "default"):
         assert law_unavailable("esys", law) is None
+    spec = RunSpec("steel", "esys", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
+    with pytest.raises(ValueError, match="law 'viscoelastic' .* ESyS cannot express: .*clipped at zero"):
+        esys.run_esys([spec], tmp_path)
+    assert not list(tmp_path.iterdir())  # refused before anything is written
+    # The convergence study's runs (the model under test) fall back to the clipped law in ESyS.
+    from contact_model import load_case
+    from engines.plan import plan_at_velocity
+    from pathlib import Path
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "steel.yaml")
+    assert {r.law for r in plan_at_velocity(case, "esys", [0.1], [1000], 1.0, "convergence")} == {"viscoelastic_clipped"}
+    assert {r.law for r in plan_at_velocity(case, "yade", [0.1], [1000], 1.0, "convergence")} == {"viscoelastic"}
 
 
 def test_version_is_read_from_esys_and_other_programs_are_refused(tmp_path):
