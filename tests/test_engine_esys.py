@@ -149,3 +149,27 @@ def test_run_that_never_touches_fails_and_others_still_land(tmp_path, monkeypatc
     assert list(sweep.dumps) == [good.name] and (tmp_path / f"{good.name}.csv").exists()
     assert "never touch" in str(sweep.failures[short.name])
     assert not (tmp_path / f"{short.name}.csv").exists()
+
+
+def test_a_failed_run_leaves_nothing_that_acts_on_the_next(tmp_path, monkeypatch):
+    """All runs of a sweep share one LsmMpi, and ESyS's Hertzian groups act on every pair: a run
+    that fails inside its collision must still remove its group and stop its bodies. The run
+    after it gives the same record, bit for bit, as when it runs alone."""
+    broken = RunSpec("steel", "esys", "elastic", steel_pair("sphere-sphere"), VELOCITY)
+    good = RunSpec("steel", "esys", "viscoelastic_clipped", steel_pair("sphere-sphere"), VELOCITY)
+    real_entry = esys.job_entry
+
+    def entry(spec, out):
+        e = real_entry(spec, out)
+        return {**e, "steps": "no number"} if spec is broken else e  # fails after the group is made
+
+    monkeypatch.setattr(esys, "job_entry", entry)
+    after = esys.run_esys([broken, good], tmp_path / "after")
+    assert "ValueError" in str(after.failures[broken.name]) and list(after.dumps) == [good.name]
+    alone = esys.run_esys([good], tmp_path / "alone").raise_first()
+
+    def data(path):
+        text = path.read_text()
+        return text[text.index("time,overlap,"):]
+
+    assert data(after.dumps[good.name]) == data(alone.dumps[good.name])

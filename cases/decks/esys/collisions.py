@@ -18,7 +18,9 @@
 # bodies ever touch), with their own particle ids (2k, 2k+1) and tags (2k+1, 2k+2) and their
 # own interaction group, created when the run starts and removed when it ends; then its
 # particles are made non-dynamic (they stay where they are, touching nothing). The time step
-# is set per run (LsmMpi.setTimeStepSize).
+# is set per run (LsmMpi.setTimeStepSize). A run that fails is cleaned up the same way: an
+# interaction group left behind would act on every later run's bodies too.
+#
 # Contact laws (the host picks one per run):
 #   viscoelastic_clipped  HertzianViscoElasticPrms(A, E, nu) (Model/HertzianViscoElasticInteraction.cpp):
 #                         F = 2 E sqrt(R*) / (3 (1 - nu^2)) (delta^{3/2} + A delta^{1/2} d(delta)/dt),
@@ -89,9 +91,8 @@ def body_state(sim, ids):
 def run_one(sim, k, run):
     a, b = 2 * k, 2 * k + 1
     tag_a, tag_b = 2 * k + 1, 2 * k + 2
-    dt, steps = run["dt"], int(run["steps"])
     two = run["geometry"] == "sphere-sphere"
-    sim.setTimeStepSize(dt)
+    sim.setTimeStepSize(run["dt"])
     y = k * PITCH
     pa = NRotSphere(id=a, posn=Vec3(run["x1"], y, 0.0), radius=run["R1"], mass=run["m1"])
     pa.setLinearVelocity(Vec3(run["v1"], 0.0, 0.0))
@@ -115,6 +116,19 @@ def run_one(sim, k, run):
     else:
         prms = HertzianViscoElasticPrms(name=group, A=run["A"], E=run["E"], nu=0.0)
     sim.createInteractionGroup(prms)
+    try:
+        return record(sim, run, a, b, R2)
+    finally:
+        sim.removeInteractionGroup(group)
+        sim.setParticleNonDynamic(tag_a)  # both bodies stop (else they fly on, out of the domain)
+        if two:
+            sim.setParticleNonDynamic(tag_b)
+
+
+def record(sim, run, a, b, R2):
+    """Run the collision of particles a and b (contact distance r1 + r2); its record's rows."""
+    dt, steps = run["dt"], int(run["steps"])
+    two = run["geometry"] == "sphere-sphere"
     M = 1.0 / (1.0 / run["m1"] + 1.0 / run["m2"]) if two else run["m1"]
     contact = run["R1"] + R2
 
@@ -133,8 +147,6 @@ def run_one(sim, k, run):
         x_next, w_next = overlap_and_rate()
         rows.append("%.17g,%.17g,%.17g,%.17g" % (n * dt, x, 0.5 * (w + w_next), M * (w - w_next) / dt))
         x, w = x_next, w_next
-    sim.removeInteractionGroup(group)
-    sim.setParticleNonDynamic(tag_a)
     return rows
 
 
