@@ -88,7 +88,8 @@ class EngineCode:
 #   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
 #   ESyS 2.3.5       (mpirun -np 2 esysparticle) start-up 0.7-1.0 s; 130-210 us/step on a quiet machine, up to
 #                    1.4 ms/step under load (a master-worker MPI round trip per step, two with the state
-#                    query; steel: 24 runs of ~1 310 steps in 29-43 s at load 7 on 2 cores), ~10 ms/run
+#                    query; steel, 24 runs of ~1 310 steps: 5.5 s at load 2, 29-43 s at load 7-10 on 2 cores),
+#                    ~10 ms/run
 CODES: dict[str, EngineCode] = {c.name: c for c in (
     EngineCode(
         name="liggghts", banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
