@@ -8,7 +8,7 @@ SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
-DEBIAN_PACKAGES := liggghts yade lammps python3-venv python3-pip
+DEBIAN_PACKAGES := liggghts yade lammps esys-particle python3-venv python3-pip
 JOBS ?= 2
 
 LAMMPS_VENV := .venv-lammps
@@ -34,8 +34,8 @@ bench: engines lammps-2025 kratos-10.4 venv
 
 # The DEM engines come from Debian's packages; skip apt when they are already there.
 engines:
-	@if command -v liggghts >/dev/null && command -v yade >/dev/null && command -v lmp >/dev/null && python3 -c 'import venv, ensurepip' 2>/dev/null; then \
-	  echo "engines: liggghts, yade and lammps are installed"; \
+	@if command -v liggghts >/dev/null && command -v yade >/dev/null && command -v lmp >/dev/null && command -v esysparticle >/dev/null && command -v mpirun >/dev/null && python3 -c 'import venv, ensurepip' 2>/dev/null; then \
+	  echo "engines: liggghts, yade, lammps and esys-particle are installed"; \
 	else \
 	  $(SUDO) apt-get update && \
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $(DEBIAN_PACKAGES); \

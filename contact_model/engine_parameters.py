@@ -20,6 +20,12 @@ Kratos DEMApplication ``DEM_D_Hertz_viscous_Coulomb`` (DEM_D_Hertz_viscous_Coulo
     -> young = 2 E*  [Pa], poisson = 0 on every body (Y* = E*: F_el = (4/3) E* sqrt(R*) delta^{3/2}).
     Its damping 2 gamma sqrt(M* kn) d(delta)/dt goes as delta^{1/4}: eta has no Kratos
     parameter (the viscoelastic law is not available there, engines.codes).
+ESyS-Particle ``HertzianViscoElasticPrms(A, E, nu)`` (Model/HertzianViscoElasticInteraction.cpp)
+    F = 2 E sqrt(R*) / (3 (1 - nu^2)) (delta^{3/2} + A delta^{1/2} d(delta)/dt), clipped at F >= 0
+    -> E = 2 E*  [Pa],  nu = 0,  A = 3 eta / (2 E*)  [s]
+    ESyS has no Hertzian wall (its walls are linear springs): the plane is a fixed sphere of
+    radius R_wall = 1e3 R (`esys_plane_as_sphere`), its modulus scaled so that the force is the
+    plane's.
 """
 
 from __future__ import annotations
@@ -52,9 +58,50 @@ def kratos_hertz(E: float, R: float, M: float, eta: float) -> dict[str, float]:
     return {"young": 2.0 * E, "poisson": 0.0}
 
 
+def esys_hertzian_viscoelastic(E: float, R: float, M: float, eta: float) -> dict[str, float]:
+    """{'E': 2 E* [Pa], 'nu': 0, 'A': 3 eta / (2 E*) [s]} for ESyS's ``HertzianViscoElasticPrms``,
+    and 'E_hertz_mindlin': E* [Pa], the modulus of its ``HertzMindlinViscoPrms`` (the out-of-the-box law).
+
+    ESyS (Model/HertzianViscoElasticInteraction.cpp) computes, with R* = 1 / (1/r1 + 1/r2),
+
+        F = 2 E sqrt(R*) / (3 (1 - nu^2)) (delta^{3/2} + A delta^{1/2} d(delta)/dt)   [N]
+
+    With nu = 0 and E = 2 E* the prefactor is (4/3) E* sqrt(R*), and A (4/3) E* sqrt(R*) = 2 eta
+    sqrt(R*) gives A = 3 eta / (2 E*): the model's force exactly (ESyS then clips it at 0).
+
+    ESyS's Hertz-Mindlin law with restitution damping (Model/HertzMindlinViscoInteraction.cpp)
+    uses its modulus as the effective one, F_el = (4/3) E sqrt(R*) delta^{3/2}: E = E*."""
+    return {"E": 2.0 * E, "nu": 0.0, "A": 3.0 * eta / (2.0 * E), "E_hertz_mindlin": E}
+
+
+#: The radius of the sphere that stands for the plane in ESyS, in radii of the sphere hitting it.
+ESYS_WALL_RADIUS_RATIO = 1e3
+
+
+def esys_plane_as_sphere(R: float, ratio: float = ESYS_WALL_RADIUS_RATIO) -> dict[str, float]:
+    """How ESyS represents the plane hit by a sphere of radius R [m]: a non-dynamic sphere of
+    radius R_wall = ratio R [m] with the modulus of its contact multiplied by `modulus_factor`.
+
+    ESyS forms R*_esys = R R_wall / (R + R_wall) = R / (1 + 1/ratio); its force is
+    proportional to E sqrt(R*_esys), so the factor sqrt(R / R*_esys) = sqrt(1 + 1/ratio) makes
+    E sqrt(R*_esys) = E sqrt(R): the force of the sphere on the plane (R* = R), exactly, at
+    every overlap and rate of a head-on impact. (The damping of ESyS's own Hertz-Mindlin law
+    scales with sqrt(E) R*^{1/4}: the same factor makes it exact too.) The ratio is not larger
+    because positions are doubles: the wall's centre sits at x = R_wall, and the overlap
+    R + R_wall - distance loses about R_wall * 1e-16 m (1e9 R rounds overlaps to ~1e-9 m).
+
+    Returns {'R_wall' [m], 'R_star_esys' [m], 'modulus_factor' [-]}."""
+    if not (ratio > 1 and math.isfinite(ratio)):
+        raise ValueError(f"the wall's radius ratio must be a finite number above 1, got {ratio}")
+    R_wall = ratio * R
+    R_star = 1.0 / (1.0 / R + 1.0 / R_wall)
+    return {"R_wall": R_wall, "R_star_esys": R_star, "modulus_factor": math.sqrt(R / R_star)}
+
+
 ENGINE_PARAMETERS = {
     "liggghts": liggghts_hertz_stiffness,
     "yade": yade_viscoelastic_hertz,
     "lammps": lammps_granular_hertz,
+    "esys": esys_hertzian_viscoelastic,
     "kratos": kratos_hertz,
 }

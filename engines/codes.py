@@ -95,6 +95,10 @@ KRATOS_NO_VISCOELASTIC = (
 #   Kratos 10.4.4    start-up 0.7 s, 260 us/step (1 run of 13 000 steps: 4.35 s; machine loaded), ~50 ms/run
 #                    (PyPI wheels in .venv-kratos, OMP_NUM_THREADS=1; most of a step is the DEM stage's
 #                    Python); the steel sweep (16 runs, 21 000 steps): 11 s wall, 6 s CPU, load ~9
+#   ESyS 2.3.5       (mpirun -np 2 esysparticle) start-up 0.7-1.0 s; 130-210 us/step on a quiet machine, up to
+#                    1.4 ms/step under load (a master-worker MPI round trip per step, two with the state
+#                    query; steel, 24 runs of ~1 310 steps: 5.5 s at load 2, 29-43 s at load 7-10 on 2 cores),
+#                    ~10 ms/run
 CODES: dict[str, EngineCode] = {c.name: c for c in (
     EngineCode(
         name="liggghts", banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
@@ -115,6 +119,28 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         default_criterion="x0",  # no limit_damping by default: the tail is kept
         driver="engines.lammps:run_lammps", decks=("cases/decks/lammps/*.in",),
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
+    EngineCode(
+        name="esys", banner=re.compile(r"^ESyS-Particle \S+.*$", re.M),
+        # esysparticle is ESyS's Python interpreter (its --version is Python's): import the
+        # compiled esys.lsm and print the package's version. Debian's 2.3.5 reports "2.3.4"
+        # (esys.lsm.util.InstallInfo and LsmMpi.getLsmVersion were not bumped upstream).
+        version_args=("-c", "import esys.lsm, esys.lsm.util.InstallInfo as i; print(i.pkgName, i.version)"),
+        install_hint="install Debian's build with `sudo apt-get install esys-particle` (or `make engines`)",
+        default_criterion="x0",  # HertzMindlinViscoPrms does not clip its force: the tail is kept
+        driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
+        cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=500e-6),
+        unavailable={
+            "viscoelastic": "ESyS's HertzianViscoElastic force is clipped at zero (no attractive tail): "
+                            "the x0 trajectory cannot be run; its F0 trajectory is viscoelastic_clipped",
+        },
+        notes=(
+            "ESyS has no Hertzian wall (its walls are linear springs): the plane is a fixed (non-dynamic) "
+            "sphere of radius 1000 R, its contact modulus scaled by sqrt(R / R*_esys) = sqrt(1.001) so that "
+            "E sqrt(R*) is the plane's: the force of a head-on impact is the sphere-plane force, exactly "
+            "(contact_model.engine_parameters.esys_plane_as_sphere).",
+            "A sweep runs in one ESyS process (mpirun -np 2: a master and a worker); each run has its own "
+            "particles and tagged interaction group in one LsmMpi.",
+        )),
     EngineCode(
         name="kratos", banner=re.compile(r"^KratosMultiphysics \d+\.\d+.*$", re.M),
         version_args=("-c", "import importlib.metadata as m, KratosMultiphysics.DEMApplication; "

@@ -9,7 +9,8 @@ disk when it is killed. So every engine process
   stdout, and the engine's C stdio is made line-buffered with coreutils' `stdbuf -oL -eL` (YADE:
   PYTHONUNBUFFERED=1), so that lines land as they are printed, not when a 4 KiB buffer fills;
 - runs in a session of its own, and the whole process group is killed when it times out, and
-  after it exits (MPI helpers, a `shell` command's children or a wrapper's engine must not linger).
+  after it exits (MPI helpers, a `shell` command's children or a wrapper's engine must not linger);
+  so is every other process of its session: mpirun puts each rank in a process group of its own.
 """
 
 from __future__ import annotations
@@ -63,6 +64,29 @@ def kill_group(pgid: int, sig: int = signal.SIGKILL) -> None:
         pass
 
 
+def kill_session(sid: int, sig: int = signal.SIGKILL) -> None:
+    """Send `sig` to every process of session `sid` (read from /proc; nothing where there is
+    no /proc). Reaches what left the leader's process group but not its session, such as
+    mpirun's ranks, each in a group of its own, and their children."""
+    for stat_file in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat_file.read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        if int(fields[3]) == sid:  # state, ppid, pgrp, session
+            try:
+                os.kill(int(stat_file.parent.name), sig)
+            except (ProcessLookupError, PermissionError):
+                pass
+
+
+def kill_all(pgid: int, sig: int = signal.SIGKILL) -> None:
+    """`kill_group` and `kill_session` of a process started with start_new_session (its pid is
+    both its group and its session)."""
+    kill_group(pgid, sig)
+    kill_session(pgid, sig)
+
+
 @dataclass
 class Finished:
     """How an engine process ended: its exit status (None if killed for its time limit)."""
@@ -79,9 +103,9 @@ def run_logged(cmd: list[str], log: Path, timeout_s: float, cwd=None, env: dict 
                stdin=subprocess.DEVNULL, mode: str = "w") -> Finished:
     """Run `cmd` with stdout and stderr going straight into `log`, in a new session.
 
-    If it has not exited after `timeout_s`, its process group gets SIGTERM, then SIGKILL after
-    KILL_GRACE_S; the group is SIGKILLed after a normal exit too, so that nothing it started
-    survives. Returns how it ended."""
+    If it has not exited after `timeout_s`, its process group gets SIGTERM, then its group and
+    session SIGKILL after KILL_GRACE_S; they are SIGKILLed after a normal exit too, so that
+    nothing it started survives. Returns how it ended."""
     started = time.perf_counter()
     with open(log, mode) as out:
         proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=subprocess.STDOUT, stdin=stdin,
@@ -97,10 +121,10 @@ def run_logged(cmd: list[str], log: Path, timeout_s: float, cwd=None, env: dict 
         except subprocess.TimeoutExpired:
             pass
     except BaseException:  # e.g. KeyboardInterrupt: do not leave the engine running
-        kill_group(pgid)
+        kill_all(pgid)
         proc.wait()
         raise
-    kill_group(pgid)
+    kill_all(pgid)
     proc.wait()
     return Finished(returncode, time.perf_counter() - started)
 

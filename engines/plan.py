@@ -251,15 +251,16 @@ def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, veloc
                      purpose: str, build: str = "") -> list[RunSpec]:
     """Runs of the case's material and geometries at one impact velocity, the viscosity set for
     each K (K = 0: elastic), at every time-step factor (the convergence study, the paper's
-    Fig. 4). `purpose` tags the case name.
-
-    A code that cannot express the viscoelastic law (`engines.codes`, ``unavailable``, e.g.
-    Kratos) runs K = 0 alone, with its law 'elastic' (the same Hertz force, eta = 0); its K > 0
-    runs are left out."""
+    Fig. 4). `purpose` tags the case name. The law is the model under test, 'viscoelastic'; a
+    code that cannot keep the attractive tail (`engines.codes`, ``unavailable``, e.g. ESyS) runs
+    'viscoelastic_clipped' (criterion F0 only) instead, and a code that cannot express the
+    viscoelastic force at all (e.g. Kratos) runs K = 0 alone, with its law 'elastic' (the same
+    Hertz force, eta = 0); its K > 0 runs are left out."""
     from contact_model import ContactPair
     from contact_model.collision_scales import viscosity_for_dissipation
 
-    hertz_only = law_unavailable(engine, "viscoelastic") is not None
+    law = next((lw for lw in ("viscoelastic", "viscoelastic_clipped") if law_unavailable(engine, lw) is None), None)
+    hertz_only = law is None
     runs = []
     for pair in case.pairs:
         for K in K_values:
@@ -267,7 +268,7 @@ def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, veloc
                 continue
             eta = viscosity_for_dissipation(pair.E, pair.R, pair.M, velocity, K) if K > 0 else 0.0
             tuned = ContactPair(pair.geometry, pair.body_1, pair.body_2, pair.E, eta)
-            law = "elastic" if hertz_only else "viscoelastic"
-            runs += [RunSpec(f"{case.name}-{purpose}", engine, law, tuned, velocity, f, build=build)
+            law_K = "elastic" if hertz_only else law
+            runs += [RunSpec(f"{case.name}-{purpose}", engine, law_K, tuned, velocity, f, build=build)
                      for f in time_step_factors]
     return runs

@@ -34,18 +34,19 @@ def config_with(builds):
     return {**config, "builds": builds}
 
 
-def test_default_config_has_the_five_builds():
+def test_default_config_has_the_six_builds():
     builds = load_builds(yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["builds"], ROOT)
     assert [(b.id, b.code) for b in builds] == [("liggghts-3.8", "liggghts"), ("yade-2023", "yade"),
                                                 ("lammps-2021", "lammps"), ("lammps-2025", "lammps"),
-                                                ("kratos-10.4", "kratos")]
+                                                ("esys-2.3.5", "esys"), ("kratos-10.4", "kratos")]
     assert builds[3].executable == str(ROOT / ".venv-lammps" / "bin" / "lmp")  # relative to the project
-    assert builds[4].executable == str(ROOT / ".venv-kratos" / "bin" / "python")
+    assert builds[4].executable == "esysparticle"
+    assert builds[5].executable == str(ROOT / ".venv-kratos" / "bin" / "python")
     assert builds[2].executable == "lmp"  # a name stays a name: looked up on PATH
 
 
 def test_an_unknown_code_and_a_bad_id_are_refused():
-    with pytest.raises(BuildError, match="build 'chute-2': unknown code 'chute'; known: liggghts, yade, lammps, kratos"):
+    with pytest.raises(BuildError, match="build 'chute-2': unknown code 'chute'; known: liggghts, yade, lammps, esys, kratos"):
         load_builds([{"id": "chute-2", "code": "chute", "executable": "chute"}], ROOT)
     with pytest.raises(Exception, match="does not match"):
         validate(config_with([{"id": "LAMMPS 2021", "code": "lammps", "executable": "lmp"}]),

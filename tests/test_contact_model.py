@@ -6,6 +6,7 @@ import pytest
 
 from contact_model import Body, ContactPair, effective_mass, effective_modulus, effective_radius
 from contact_model import collision_scales as cs
+from contact_model.engine_parameters import esys_plane_as_sphere
 from reference import HERTZ_TAU, K_PREFACTOR
 
 STEEL = dict(E=109e9, R=0.635e-2 / 2, M=4 / 3 * math.pi * 0.635e-2**3 * 7800 / 2, eta=67e3)
@@ -106,6 +107,38 @@ def test_kratos_parameters_give_the_hertz_force(geometry):
     for delta in (1e-9, 3e-6, 1e-4):
         kn = 2 * Y_star * math.sqrt(pair.R * delta)
         assert 2 / 3 * kn * delta == pytest.approx(4 / 3 * E * math.sqrt(pair.R) * delta**1.5, rel=1e-13)
+
+
+def test_esys_parameters_reproduce_the_model_force_on_a_sphere_and_on_the_plane():
+    """ESyS (Model/HertzianViscoElasticInteraction.cpp): F = 2 E sqrt(R*) / (3 (1 - nu^2))
+    (delta^{3/2} + A delta^{1/2} d(delta)/dt), R* = 1 / (1/r1 + 1/r2), written out here."""
+    E, R, eta = STEEL["E"], STEEL["R"], STEEL["eta"]
+    delta, rate = 3e-6, 0.7
+
+    def esys_force(p, r1, r2):
+        R_star = 1.0 / (1.0 / r1 + 1.0 / r2)
+        return 2 * p["E"] * math.sqrt(R_star) / (3 * (1 - p["nu"] ** 2)) * (
+            delta**1.5 + p["A"] * math.sqrt(delta) * rate)
+
+    def model(R_star):
+        return 4 / 3 * E * math.sqrt(R_star) * delta**1.5 + 2 * eta * math.sqrt(R_star) * math.sqrt(delta) * rate
+
+    two = ContactPair("sphere-sphere", Body(2 * R, 7800), Body(2 * R, 7800), E, eta)
+    p = two.engine_parameters("esys")
+    assert esys_force(p, 2 * R, 2 * R) == pytest.approx(model(two.R), rel=1e-14)
+    # Its Hertz-Mindlin law (HertzMindlinViscoInteraction.cpp) takes E* itself: F_el = 4/3 E sqrt(R*) delta^{3/2}.
+    assert 4 / 3 * p["E_hertz_mindlin"] * math.sqrt(two.R) * delta**1.5 == pytest.approx(
+        4 / 3 * E * math.sqrt(two.R) * delta**1.5, rel=1e-15)
+    plane = ContactPair("sphere-plane", Body(R, 7800), Body(math.inf, math.inf), E, eta)
+    assert plane.R == R
+    wall = esys_plane_as_sphere(R)
+    assert wall["R_wall"] == 1000 * R and wall["modulus_factor"] == pytest.approx(math.sqrt(1.001), rel=1e-15)
+    q = plane.engine_parameters("esys")
+    scaled = {**q, "E": q["E"] * wall["modulus_factor"]}
+    assert esys_force(scaled, R, wall["R_wall"]) == pytest.approx(model(R), rel=1e-14)
+    assert esys_force(q, R, wall["R_wall"]) / model(R) - 1 == pytest.approx(-0.0005, rel=1e-3)  # unscaled: R*(1 - 1e-3)
+    with pytest.raises(ValueError, match="above 1"):
+        esys_plane_as_sphere(R, ratio=0.5)
 
 
 def test_hertz_time_tau_is_the_reference_constant():

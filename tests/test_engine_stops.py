@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from engine_cases import VELOCITY, require_engine, steel_pair
-from engines import RunSpec, engine_process, kratos, yade
+from engines import RunSpec, engine_process, esys, kratos, yade
 from engines import codes
 from engines.codes import EngineCost
 from engines.engine_process import time_limit
@@ -232,3 +232,64 @@ def test_time_limit_scales_with_the_sweep_above_the_floor():
     assert time_limit("yade", [s.__class__(CASE, "yade", s.law, s.pair, VELOCITY) for s in specs], 1.0) > small
     with pytest.raises(ValueError, match="positive"):
         time_limit("lammps", specs, floor_s=0.0)
+
+
+def esys_wrapper(tmp_path: Path) -> str:
+    """In place of esysparticle under mpirun (both ranks run it): the master rank writes its pid
+    and leaves a sleeping child behind; both run the real esysparticle."""
+    return executable(tmp_path / "esys-wrapper.sh", f"""#!/bin/bash
+if [ "${{OMPI_COMM_WORLD_RANK:-0}}" = 0 ]; then
+  echo $$ > {tmp_path / 'wrapper.pid'}
+  sleep 1000 &
+  echo "wrapper: starting the real engine"
+fi
+"{shutil.which('esysparticle')}" "$@"
+""")
+
+
+def esys_driver_stopping_in(tmp_path: Path, run: str, how: str) -> Path:
+    """The study's ESyS deck, made to hang or to crash (SIGSEGV of the master) when `run` starts."""
+    stop = "time.sleep(1000)" if how == "hang" else "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)"
+    text = esys.DRIVER.read_text()
+    anchor = '    print("RUN %s" % run["name"], flush=True)\n'
+    assert anchor in text
+    driver = tmp_path / "collisions.py"
+    driver.write_text(text.replace(anchor, anchor + f'    if run["name"] == {run!r}:\n        {stop}\n'))
+    return driver
+
+
+@pytest.mark.parametrize("how", ["hang", "crash"])
+def test_hung_or_crashed_esys(tmp_path, monkeypatch, how, no_expected_cost):
+    """mpirun puts each rank in a process group of its own: killing mpirun's group must still
+    leave no rank (nor a rank's child) behind."""
+    require_engine("esysparticle", "esys-particle")
+    specs = [RunSpec(CASE, "esys", "viscoelastic_clipped", s.pair, VELOCITY, time_step_factor=200)
+             for s in three_runs("liggghts")]
+    monkeypatch.setattr(esys, "DRIVER", esys_driver_stopping_in(tmp_path, specs[1].name, how))
+    floor = 10.0  # ESyS takes ~1 s to start
+    started = time.monotonic()
+    sweep = esys.run_esys(specs, tmp_path / "out", executable=esys_wrapper(tmp_path), timeout_floor_s=floor)
+    assert time.monotonic() - started < floor + 30
+    # A crashed rank: mpirun returns its status, 128 + 11, and prints why it aborted the job.
+    what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV (status 139)"
+    assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "esys", "ESyS-Particle 2.3.4", what,
+                                 f"RUN {specs[1].name}" if how == "hang" else "Exit code:    139")
+    assert_group_gone(tmp_path / "wrapper.pid")
+    deadline = time.monotonic() + 10
+    while processes_mentioning(str(tmp_path)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert processes_mentioning(str(tmp_path)) == [], "ESyS processes survived"
+
+
+def processes_mentioning(text: str) -> list[str]:
+    """Live processes whose command line contains `text`, as 'pid command line'."""
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            args = cmdline.read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            state = (cmdline.parent / "stat").read_text().rsplit(")", 1)[1].split()[0]
+        except OSError:
+            continue
+        if text in args and state != "Z":
+            found.append(f"{cmdline.parent.name} {args}")
+    return found

@@ -30,7 +30,7 @@ def test_dry_run_plans_every_case_and_engine():
     out = snakemake("-n", "all", "--forceall")
     assert out.returncode == 0, out.stderr
     cases = len(list((ROOT / "cases").glob("*.yaml")))
-    builds = 5  # config/config.yaml: liggghts-3.8, yade-2023, lammps-2021, lammps-2025, kratos-10.4
+    builds = 6  # config/config.yaml: liggghts-3.8, yade-2023, lammps-2021, lammps-2025, esys-2.3.5, kratos-10.4
     assert re.search(rf"^run_engine\s+{builds * cases}$", out.stdout, flags=re.M), out.stdout
     assert re.search(r"^lammps_regression_runs\s+2$", out.stdout, flags=re.M), out.stdout  # one per LAMMPS build
     assert "convergence_runs" in out.stdout and "compare_builds" in out.stdout
