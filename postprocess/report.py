@@ -26,6 +26,7 @@ import pandas as pd  # noqa: E402
 
 from contact_model import GEOMETRIES  # noqa: E402
 from engines import GATED_LAWS  # noqa: E402
+from engines.codes import CODES  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 
 from .gate import GATED_QUANTITIES, gating, with_build  # noqa: E402
@@ -203,7 +204,7 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
     gated = table[table.law.isin(GATED_LAWS)]
     if len(gated):
         e = np.abs(gated[[f"err_{q}" for q in GATED_QUANTITIES]].to_numpy())
-        out.append(f"The viscoelastic runs ({len(gated)} run x criterion rows) agree with the reference solver to "
+        out.append(f"The gated runs ({len(gated)} run x criterion rows) agree with the reference solver to "
                    f"a median relative error of {np.median(e):.1e} and at most {e.max():.1e} in T, A and eps.")
         both = gated[gated.law == "viscoelastic"]
         if both.build.nunique() >= 2:
@@ -215,9 +216,9 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
                            "same K and time step: all damp with the half-step velocity, hence the same first-order "
                            "error.")
     default = table[table.law == "default"]
-    for engine, group in default.groupby("engine"):
+    for build, group in default.groupby("build", sort=False):
         lo, hi = group.loc[group.K.idxmin()], group.loc[group.K.idxmax()]
-        out.append(f"{engine}'s out-of-the-box law (restitution {group.matched_restitution.iloc[0]:.4f}, matched at one "
+        out.append(f"{build}'s out-of-the-box law (restitution {group.matched_restitution.iloc[0]:.4f}, matched at one "
                    f"velocity) gives eps {lo.eps:.4f} at K = {lo.K:.3g} where the viscoelastic model gives "
                    f"{lo.eps_ref:.4f} ({lo.err_eps:+.1%}), and {hi.eps:.4f} vs {hi.eps_ref:.4f} at K = {hi.K:.3g} "
                    f"({hi.err_eps:+.1%}): a constant restitution cannot follow eps(K) ~ 1 - 1.009 K.")
@@ -325,8 +326,10 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
         drift = drift.iloc[np.lexsort(([list(GEOMETRIES).index(g) if g in GEOMETRIES else len(GEOMETRIES)
                                         for g in drift.geometry], [order.index(b) for b in drift.build]))]
         lines += ["## Out-of-the-box laws against the viscoelastic model", "",
-                  "LIGGGHTS `model hertz`, YADE Hertz-Mindlin with `en` and LAMMPS `damping tsuji`, each given the "
-                  "reference eps at one velocity as its restitution coefficient (under the criterion its default "
+                  "Each engine's own restitution law ("
+                  + "; ".join(f"{code}: {CODES[code].default_law}" for code in dict.fromkeys(table.engine)
+                              if code in CODES and CODES[code].default_law) +
+                  "), given the reference eps at one velocity as its restitution coefficient (under the criterion its default "
                   "stands for: x0 where the attractive tail is kept, F0 where the force is clipped); compared, not "
                   "gated. Each cell: the quantity (T, A or eps) with the largest relative error over every case and "
                   "K, that error, and the criterion.", "", DEFAULT_MATRIX, "",
