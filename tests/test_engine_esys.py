@@ -53,11 +53,14 @@ def test_clipped_force_matches_reference_F0(sweep, geometry):
 @pytest.mark.parametrize("geometry", GEOMETRIES)
 def test_elastic_contact_is_hertz(sweep, geometry):
     """A = 0: Hertz alone. Symplectic Euler conserves the energy of this conservative contact to
-    O(dt^2): measured eps - 1 ~ 6e-11 and T, A within 5.2e-7 of Hertz's at dt = T_e/1000."""
+    O(dt^2); contact begins half a step after a sample (the driver starts the bodies half a step
+    further apart, engines/esys.py), which costs the first step into contact some energy:
+    measured eps - 1 = -5.2e-8 (-6e-11 with a sample at touching) and T, A within 5.2e-7 of
+    Hertz's at dt = T_e/1000."""
     spec, meta, m = sweep[("elastic", geometry, VELOCITY)]
     assert meta["engine_variables"]["A"] == 0.0 and meta["represents"] == ["x0"]
     errors = relative_errors(m, spec)
-    assert abs(errors["eps_x0"]) < 1e-9
+    assert abs(errors["eps_x0"]) < 1e-7
     for q in ("A", "T_x0"):
         assert abs(errors[q]) < 2e-6, (q, errors[q])
 

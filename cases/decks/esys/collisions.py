@@ -35,11 +35,9 @@
 # (ESyS has no Hertzian wall: its walls are linear springs). The host scales the modulus so
 # that the force is exactly the plane's for this head-on impact (see engines/esys.py).
 #
-# Overlap: r1 + r2 - (x2 - x1), with ESyS's positions. The gap at t = 0 is a whole number of
-# steps of approach, so one sample falls where the bodies just touch: there the difference is
-# a few ulps of r1 + r2 (e.g. +5e-18 m for two 6.35 mm spheres), and the force ESyS computes
-# from it (~delta^{3/2}, ~1e-16 N) changes no velocity by even one ulp, so the record would show
-# an overlap without a force. Overlaps within ROUNDOFF (r1 + r2) of zero are recorded as 0.
+# Overlap: r1 + r2 - (x2 - x1), with ESyS's positions. The host starts the bodies half a step
+# more than a whole number of steps apart (engines/esys.py): a sample exactly at touching would
+# carry a rounding-level overlap whose force (~delta^{3/2}) changes no velocity by even one ulp.
 #
 # Time: ESyS integrates with symplectic Euler (Model/Particle.cpp, CParticle::integrate):
 # F_n = F(x_n, v_n); v_{n+1} = v_n + F_n dt / m; x_{n+1} = x_n + v_{n+1} dt. So v_n is the
@@ -55,9 +53,6 @@ import time
 from esys.lsm import HertzMindlinViscoPrms, HertzianViscoElasticPrms, LsmMpi, NRotSphere
 from esys.lsm.util import BoundingBox, Vec3
 import esys.lsm.util.InstallInfo as install_info
-
-#: Overlaps within this fraction of the contact distance r1 + r2 are rounding: recorded as 0.
-ROUNDOFF = 1e-15
 
 with open(sys.argv[1]) as f:
     JOB = json.load(f)
@@ -135,10 +130,7 @@ def record(sim, run, a, b, R2):
     def overlap_and_rate():
         s = body_state(sim, [a, b])
         (xa, va), (xb, vb) = s[a], s[b]
-        overlap = contact - (xb - xa)
-        if abs(overlap) <= ROUNDOFF * contact:
-            overlap = 0.0  # touching, to the rounding of the positions (see "Overlap" above)
-        return overlap, va - vb
+        return contact - (xb - xa), va - vb
 
     rows = []
     x, w = overlap_and_rate()
