@@ -45,7 +45,19 @@ def _sum(terms):
     return " + ".join(terms)
 
 
+def _terms(a, b, n, lo, hi):
+    """The products a_j b_{n-j} for j = lo..hi."""
+    return [f"{a}{j} * {b}{n - j}" for j in range(lo, hi + 1)]
+
+
 def generate_u(N):
+    """Phase u. The chain from one order to the next is v_n -> r_n -> v_{n+1}; both links are
+    written as one multiply-add with a factor fixed for the step, everything else (the older
+    terms of the sums) is computed beside the chain:
+
+        r_n = R_n + D v_n,          R_n = -r_0 (sum_{j=2..n-1} v_j r_{n-j} + v_1 r_{n-1}),  D = -r_0^2
+        v_{n+1} = A_n + B_n r_n,    B_n = -5/2 f_0 / (n+1)
+    """
     L = ["def coefficients_u(u0, y, K, c):",
          '    """Phase u: Taylor coefficients of (v, tau, D) in h = u - u0 into c (3, ORDER+1)."""',
          "    v0 = y[0]",
@@ -56,36 +68,45 @@ def generate_u(N):
          "    f2 = e1 * e1 + 2.0 * e0",
          "    f3 = 2.0 * e1",
          "    r0 = 1.0 / v0",
+         "    D = -r0 * r0",
+         "    F = -2.5 * f0",
          "    m2K = -2.0 * K",
          "    K4 = 4.0 * K"]
     for n in range(N):
-        if n > 0:
-            newest = [(1, n - 1)] + ([(n, 0)] if n > 1 else [])
-            old = [f"v{j} * r{n - j}" for j in range(2, n)]
-            new = [f"v{j} * r{k}" for j, k in newest]
-            s = f"({_sum(old)}) + {_sum(new)}" if old else _sum(new)
-            L.append(f"    r{n} = -({s}) * r0")
-        u4r = [f"f0 * r{n}"] + [f"{f} * r{n - k}" for k, f in ((1, "f1"), (2, "f2"), (3, "f3")) if n >= k]
+        if n == 1:
+            L.append("    r1 = D * v1")
+        elif n > 1:
+            older = _terms("v", "r", n, 2, n - 1) + [f"v1 * r{n - 1}"]
+            L.append(f"    r{n} = -({_sum(older)}) * r0 + D * v{n}")
+        inv = repr(1.0 / (n + 1))
+        u4r = [f"{f} * r{n - k}" for k, f in ((1, "f1"), (2, "f2"), (3, "f3")) if n >= k]
         u4r += [f"r{n - 4}"] if n >= 4 else []
+        q = ("e0", "e1", "1.0")[n] if n < 3 else None
+        rest = " - ".join(([f"m2K * {q}"] if q else []) + ([f"2.5 * ({_sum(u4r)})"] if u4r else []))
+        if rest:
+            rest = rest if q else f"-{rest}"
+            L.append(f"    v{n + 1} = ({rest} + F * r{n}) * {inv}")
+        else:
+            L.append(f"    v{n + 1} = F * r{n} * {inv}")
         qv = [f"e0 * v{n}"] + ([f"e1 * v{n - 1}"] if n >= 1 else []) + ([f"v{n - 2}"] if n >= 2 else [])
         ur = [f"u0 * r{n}"] + ([f"r{n - 1}"] if n >= 1 else [])
-        inv = repr(1.0 / (n + 1))
-        q = ("e0", "e1", "1.0")[n] if n < 3 else None
-        dv = f"m2K * {q} - 2.5 * ({_sum(u4r)})" if q else f"-2.5 * ({_sum(u4r)})"
-        L.append(f"    v{n + 1} = ({dv}) * {inv}")
         L.append(f"    t{n + 1} = 2.0 * ({_sum(ur)}) * {inv}")
         L.append(f"    d{n + 1} = K4 * ({_sum(qv)}) * {inv}")
-    L.append("    c[0, 0] = v0")
-    L.append("    c[1, 0] = y[1]")
-    L.append("    c[2, 0] = y[2]")
-    for n in range(1, N + 1):
-        L.append(f"    c[0, {n}] = v{n}")
-        L.append(f"    c[1, {n}] = t{n}")
-        L.append(f"    c[2, {n}] = d{n}")
+    L += _store(N, "v0")
     return L
 
 
 def generate_v(N):
+    """Phase v. s_n, i_n and b_n all depend on x_n linearly, so the chain from one order to the
+    next is x_n -> b_n -> x_{n+1}, two multiply-adds with factors fixed for the step:
+
+        s_n = h_s (x_n - Q_n),                     Q_n = sum_{j=1..n-1} s_j s_{n-j}
+        i_n = -i_0 (P_n + 5/4 i_0 x_n),            P_n = sum_{j=1..n-1} p_j i_{n-j} (+ K i_0 at n = 1)
+        b_n = -r_s (i_n + s_n b_0 + B_n) = E_n + H x_n,   B_n = sum_{j=1..n-1} s_j b_{n-j}
+        E_n = -r_s (B_n - i_0 P_n - h_s b_0 Q_n),  H = r_s (5/4 i_0^2 - h_s b_0)
+
+    with h_s = 1/(2 s_0), r_s = 1/s_0; s_n and i_n are computed beside the chain for the later sums.
+    """
     L = ["def coefficients_v(v0, y, K, c):",
          '    """Phase v: Taylor coefficients of (x, tau, D) in h = v - v0 into c (3, ORDER+1)."""',
          "    x0 = y[0]",
@@ -94,47 +115,51 @@ def generate_v(N):
          "    rs = 1.0 / s0",
          "    i0 = 1.0 / (1.25 * x0 + K * v0)",
          "    b0 = -i0 * rs",
+         "    hb = hs * b0",
+         "    G = -1.25 * i0 * i0",
+         "    H = -rs * (G + hb)",
          "    g0 = v0 * v0",
          "    g1 = 2.0 * v0",
          "    m2K = -2.0 * K"]
     for n in range(N):
         if n > 0:
-            # s_n: symmetric sum over j = 1..n-1; the newest pair (1, n-1) last.
-            pairs = [(j, n - j) for j in range(1, n) if j < n - j]
-            mid = f"s{n // 2} * s{n // 2}" if n % 2 == 0 and n >= 2 else None
-            old = [f"s{j} * s{k}" for j, k in pairs if j != 1]
-            new = [f"s1 * s{n - 1}"] if n >= 3 else []
-            parts = []
-            if old:
-                parts.append(f"2.0 * ({_sum(old)})")
-            if mid:
-                parts.append(mid)
-            if new:
-                parts.append(f"2.0 * {new[0]}")
-            L.append(f"    s{n} = (x{n} - ({_sum(parts)})) * hs" if parts else f"    s{n} = x{n} * hs")
-            # p_n
+            # Q_n: the symmetric sum, half of it doubled, the newest pair (1, n-1) last.
+            pairs = [(j, n - j) for j in range(2, n) if j < n - j]
+            parts = [f"2.0 * ({_sum(f's{j} * s{k}' for j, k in pairs)})"] if pairs else []
+            if n % 2 == 0:
+                parts.append(f"s{n // 2} * s{n // 2}")
+            if n >= 3:
+                parts.append(f"2.0 * s1 * s{n - 1}")
+            P = _terms("p", "i", n, 2, n - 1) + ([f"p1 * i{n - 1}"] if n >= 2 else [])
+            P = P if n > 1 else ["K * i0"]
+            B = _terms("s", "b", n, 2, n - 1) + ([f"s1 * b{n - 1}"] if n >= 2 else [])
+            if parts:
+                L.append(f"    Q{n} = {_sum(parts)}")
+            L.append(f"    P{n} = {_sum(P)}")
+            e = [f"B{n}"] if B else []
+            if B:
+                L.append(f"    B{n} = {_sum(B)}")
+            e.append(f"-i0 * P{n}")
+            if parts:
+                e.append(f"-hb * Q{n}")
+            L.append(f"    b{n} = -rs * ({' + '.join(e)}) + H * x{n}".replace("+ -", "- "))
+            L.append(f"    s{n} = (x{n} - Q{n}) * hs" if parts else f"    s{n} = x{n} * hs")
             L.append(f"    p{n} = 1.25 * x{n}" + (" + K" if n == 1 else ""))
-            old = [f"p{j} * i{n - j}" for j in range(2, n)]
-            new = [f"p1 * i{n - 1}"] + ([f"p{n} * i0"] if n > 1 else [])
-            s = f"({_sum(old)}) + {_sum(new)}" if old else _sum(new)
-            L.append(f"    i{n} = -({s}) * i0")
-            old = [f"s{j} * b{n - j}" for j in range(2, n)]
-            new = [f"s1 * b{n - 1}"] + ([f"s{n} * b0"] if n > 1 else [])
-            s = f"({_sum(old)}) + {_sum(new)}" if old else _sum(new)
-            L.append(f"    b{n} = -(i{n} + ({s})) * rs")
-        vi = [f"g0 * i{n}"] + ([f"g1 * i{n - 1}"] if n >= 1 else []) + ([f"i{n - 2}"] if n >= 2 else [])
+            L.append(f"    i{n} = (P{n} + 1.25 * i0 * x{n}) * -i0")
         inv = repr(1.0 / (n + 1))
+        vi = [f"g0 * i{n}"] + ([f"g1 * i{n - 1}"] if n >= 1 else []) + ([f"i{n - 2}"] if n >= 2 else [])
         xb = f"v0 * b{n}" + (f" + b{n - 1}" if n >= 1 else "")
         L.append(f"    x{n + 1} = ({xb}) * {inv}")
         L.append(f"    t{n + 1} = b{n} * {inv}")
         L.append(f"    d{n + 1} = m2K * ({_sum(vi)}) * {inv}")
-    L.append("    c[0, 0] = x0")
-    L.append("    c[1, 0] = y[1]")
-    L.append("    c[2, 0] = y[2]")
+    L += _store(N, "x0")
+    return L
+
+
+def _store(N, first):
+    L = [f"    c[0, 0] = {first}", "    c[1, 0] = y[1]", "    c[2, 0] = y[2]"]
     for n in range(1, N + 1):
-        L.append(f"    c[0, {n}] = x{n}")
-        L.append(f"    c[1, {n}] = t{n}")
-        L.append(f"    c[2, {n}] = d{n}")
+        L += [f"    c[0, {n}] = {'vx'[first == 'x0']}{n}", f"    c[1, {n}] = t{n}", f"    c[2, {n}] = d{n}"]
     return L
 
 
