@@ -27,6 +27,8 @@ phase v (w = v, y = (x, tau, D); s = sqrt(x), p = K v + 5/4 x, i = 1/p, b = 1/a 
     D_{n+1} = -2 K (v^2 i)_n / (n+1)          (D' = 2 K x^{1/2} v^2 / a = -2 K v^2 / p)
 """
 
+import hashlib
+import re
 from pathlib import Path
 
 ORDER = 22  # degree of the Taylor polynomials: the one place to change it
@@ -163,10 +165,26 @@ def _store(N, first):
     return L
 
 
+def source(order=ORDER):
+    """The text of reference/_coefficients.py."""
+    return (HEADER.format(N=order) + f"import math\n\nORDER = {order}\n\n\n" + "\n".join(generate_u(order))
+            + "\n\n\n" + "\n".join(generate_v(order)) + "\n")
+
+
+def digest(text):
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
 def main():
-    text = HEADER.format(N=ORDER) + f"import math\n\nORDER = {ORDER}\n\n\n" + "\n".join(generate_u(ORDER)) + "\n\n\n" \
-        + "\n".join(generate_v(ORDER)) + "\n"
-    Path(__file__).with_name("_coefficients.py").write_text(text)
+    text = source()
+    here = Path(__file__).parent
+    (here / "_coefficients.py").write_text(text)
+    # numba's cache of reference/_taylor.py (which compiles these functions into its own) is
+    # keyed by that file alone: record the digest there, so that _taylor.py changes with them.
+    taylor = here / "_taylor.py"
+    line = f'COEFFICIENTS_SHA256 = "{digest(text)}"'
+    taylor.write_text(re.sub(r'^COEFFICIENTS_SHA256 = "[0-9a-f]*"$', line, taylor.read_text(),
+                             count=1, flags=re.M))
 
 
 if __name__ == "__main__":

@@ -34,12 +34,16 @@ import math
 
 import numpy as np
 from llvmlite import ir
+from numba import config as numba_config
 from numba import njit, types
 from numba.extending import intrinsic
 
 from . import _coefficients
 
 ORDER = _coefficients.ORDER  # degree of the Taylor polynomials (set in _generate_coefficients)
+# Written by _generate_coefficients with _coefficients.py: numba's cache of this module must be
+# invalidated when that file changes, and numba looks at this file's time stamp only.
+COEFFICIENTS_SHA256 = "bac4afde376a88577e400923907a7d18184933e791bb98c9bc06b3f665260ecd"
 TOL = 1e-16  # first neglected term relative to the component's scale
 LOG2_TOL = math.log2(TOL)
 LN2 = math.log(2.0)
@@ -56,19 +60,27 @@ ROOT_NONE, ROOT_FORCE, ROOT_RATE = 0, 1, 2
 OK, STEP_FAILURE, FORCE_VANISHED = 0, 1, 2
 
 _jit = njit(cache=True, error_model="numpy", fastmath=False)
+# Fused multiply-add allowed (one rounding instead of two, no reordering): the recurrences and
+# Horner's scheme are chains of multiply-adds, whose latency is the cost of a step.
+_jit_fma = njit(cache=True, error_model="numpy", fastmath={"contract"})
 
 
 # The coefficient recurrences, unrolled (reference/_generate_coefficients.py has the equations).
-_coefficients_u = _jit(_coefficients.coefficients_u)
-_coefficients_v = _jit(_coefficients.coefficients_v)
+_coefficients_u = _jit_fma(_coefficients.coefficients_u)
+_coefficients_v = _jit_fma(_coefficients.coefficients_v)
 
 
-@intrinsic
-def _float_bits(typingctx, x):
-    """The IEEE 754 bits of a float64 as an int64 (a register move, no memory)."""
-    def codegen(context, builder, signature, args):
-        return builder.bitcast(args[0], ir.IntType(64))
-    return types.int64(types.float64), codegen
+if numba_config.DISABLE_JIT:  # NUMBA_DISABLE_JIT=1 (debugging): intrinsics cannot run as Python
+    def _float_bits(x):
+        """The IEEE 754 bits of a float64 as an int."""
+        return int(np.float64(x).view(np.int64))
+else:
+    @intrinsic
+    def _float_bits(typingctx, x):
+        """The IEEE 754 bits of a float64 as an int64 (a register move, no memory)."""
+        def codegen(context, builder, signature, args):
+            return builder.bitcast(args[0], ir.IntType(64))
+        return types.int64(types.float64), codegen
 
 
 @_jit
@@ -109,7 +121,7 @@ def _step_size(c, scale):
     return math.exp((log_rho + LOG2_TOL / N) * LN2) if log_rho < np.inf else np.inf
 
 
-@_jit
+@_jit_fma
 def _horner(c, i, h):
     N = c.shape[1] - 1
     acc = c[i, N]
@@ -118,7 +130,7 @@ def _horner(c, i, h):
     return acc
 
 
-@_jit
+@_jit_fma
 def _horner3(c, h, y):
     """All three components at h into y: one loop, three independent chains (the latency of one
     Horner chain is what a single evaluation costs)."""
