@@ -92,10 +92,11 @@ def _log2_approx(x):
 
 
 @_jit
-def _step_size(c, scale):
+def _step_size(c, s0, s1, s2):
     """rho TOL^{1/ORDER}, rho the smallest radius estimate (S / |c_j|)^{1/j} over the components
-    and the last two orders; a component whose last two coefficients vanish uses its last
-    nonzero one among the last six. nan if a coefficient is not finite.
+    and the last two orders, S = s0, s1, s2 the components' scales; a component whose last two
+    coefficients vanish uses its last nonzero one among the last six. nan if a coefficient is not
+    finite.
 
     The logarithms are `_log2_approx`: an error of 0.09 in log2 |c_j| moves rho by a factor
     2^(0.09/j) < 1.003 (j >= ORDER - 5), a step of 0.3 % more or less, of no account for the
@@ -103,9 +104,10 @@ def _step_size(c, scale):
     N = c.shape[1] - 1
     log_rho = np.inf
     for i in range(3):
-        if scale[i] <= 0.0:
+        scale = s0 if i == 0 else (s1 if i == 1 else s2)
+        if scale <= 0.0:
             continue
-        log_s = _log2_approx(scale[i])
+        log_s = _log2_approx(scale)
         used = 0
         for j in range(N, N - 6, -1):
             cj = abs(c[i, j])
@@ -132,15 +134,24 @@ def _horner(c, i, h):
 
 @_jit_fma
 def _horner3(c, h, y):
-    """All three components at h into y: one loop, three independent chains (the latency of one
-    Horner chain is what a single evaluation costs)."""
+    """All three components at h into y (the state at the step end). The latency of the Horner
+    chain is part of a step's cost, so each polynomial is split into its even and odd parts,
+    p(h) = E(h^2) + h O(h^2), six independent Horner chains in h^2 of half the length."""
     N = c.shape[1] - 1
-    a0, a1, a2 = c[0, N], c[1, N], c[2, N]
-    for n in range(N - 1, -1, -1):
-        a0 = a0 * h + c[0, n]
-        a1 = a1 * h + c[1, n]
-        a2 = a2 * h + c[2, n]
-    y[0], y[1], y[2] = a0, a1, a2
+    h2 = h * h
+    top = N - (N % 2)  # the highest even order
+    e0, e1, e2 = c[0, top], c[1, top], c[2, top]
+    o0 = o1 = o2 = 0.0
+    if N % 2 == 1:
+        o0, o1, o2 = c[0, N], c[1, N], c[2, N]
+    for n in range(top - 2, -1, -2):
+        e0 = e0 * h2 + c[0, n]
+        e1 = e1 * h2 + c[1, n]
+        e2 = e2 * h2 + c[2, n]
+        o0 = o0 * h2 + c[0, n + 1]
+        o1 = o1 * h2 + c[1, n + 1]
+        o2 = o2 * h2 + c[2, n + 1]
+    y[0], y[1], y[2] = e0 + h * o0, e1 + h * o1, e2 + h * o2
 
 
 @_jit
@@ -221,7 +232,6 @@ def _phase(kind, start, stop, y, K, root, samples, out, c):
     [0, 1] of the phase, w = start + s (stop - start)) the step polynomials are evaluated into
     out (m, 4): x, v, tau, D.
     """
-    scale = np.empty(3)
     direction = 1.0 if stop >= start else -1.0
     w = start
     m = len(samples)
@@ -247,13 +257,11 @@ def _phase(kind, start, stop, y, K, root, samples, out, c):
             return 0, found, xr, vr, taur, Dr
         if kind == KIND_U:
             _coefficients_u(w, y, K, c)
-            scale[0] = abs(y[0])
+            s0 = abs(y[0])
         else:
             _coefficients_v(w, y, K, c)
-            scale[0] = y[0]
-        scale[1] = max(abs(y[1]), 1.0)
-        scale[2] = max(abs(y[2]), abs(K))
-        h = _step_size(c, scale)
+            s0 = y[0]
+        h = _step_size(c, s0, max(abs(y[1]), 1.0), max(abs(y[2]), abs(K)))
         if not h > 0.0:  # nan or zero: the polynomial is degenerate
             return 1, found, xr, vr, taur, Dr
         last = h >= abs(stop - w)
@@ -313,15 +321,16 @@ def _x_max_lower_bound(K):
 
 
 @_jit
-def _phases(K, samples, out, c):
-    """The four phases A, B1, B2, C of `collision_ode` for one K. Returns (status, row (N_OUT,)).
-    With fractions samples (4, m) of each phase, fills out (4, m, 4) with (x, v, tau, D) there.
+def _phases(K, samples, out, c, row, y):
+    """The four phases A, B1, B2, C of `collision_ode` for one K. Returns (status, row): row
+    (N_OUT,) and y (3,) are scratch passed in (no allocation per K). With fractions samples (4, m)
+    of each phase, fills out (4, m, 4) with (x, v, tau, D) there.
 
     One call site of _phase inside a loop over the phases: four call sites would each be
     inlined and optimised by LLVM, which multiplies the (cached, but once per clone) compile time.
     """
-    row = np.full(N_OUT, np.nan)
-    y = np.empty(3)
+    for j in range(N_OUT):
+        row[j] = np.nan
     u_s = math.sqrt(XS_FRACTION * _x_max_lower_bound(K))
     v1 = tau1 = D1 = x_max = tau_max = D_max = v2 = np.nan
     in_a = in_b = found = 0.0
@@ -399,8 +408,9 @@ def solve_batch(K):
     c = np.empty((3, ORDER + 1))
     samples = np.empty((4, 0))
     out = np.empty((4, 0, 4))
+    row, y = np.empty(N_OUT), np.empty(3)  # scratch, reused for every K
     for i in range(n):
-        st, row = _phases(K[i], samples, out, c)
+        st, row = _phases(K[i], samples, out, c, row, y)
         status[i] = st
         for j in range(N_OUT):  # not table[i] = row: its shape check alone compiles for seconds
             table[i, j] = row[j]
@@ -412,5 +422,5 @@ def trajectory(K, samples):
     """(x, v, tau, D) at samples (4, m) of each phase's own variable: out (4, m, 4); status."""
     c = np.empty((3, ORDER + 1))
     out = np.empty((4, samples.shape[1], 4))
-    st, _ = _phases(K, samples, out, c)
+    st, _ = _phases(K, samples, out, c, np.empty(N_OUT), np.empty(3))
     return out, st
