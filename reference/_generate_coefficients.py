@@ -59,6 +59,8 @@ def generate_u(N):
 
         r_n = R_n + D v_n,          R_n = -r_0 (sum_{j=2..n-1} v_j r_{n-j} + v_1 r_{n-1}),  D = -r_0^2
         v_{n+1} = A_n + B_n r_n,    B_n = -5/2 f_0 / (n+1)
+
+    (A_n and the factor B_n are computed beside the chain, so each link is one fused multiply-add.)
     """
     L = ["def coefficients_u(u0, y, K, c):",
          '    """Phase u: Taylor coefficients of (v, tau, D) in h = u - u0 into c (3, ORDER+1)."""',
@@ -87,9 +89,9 @@ def generate_u(N):
         rest = " - ".join(([f"m2K * {q}"] if q else []) + ([f"2.5 * ({_sum(u4r)})"] if u4r else []))
         if rest:
             rest = rest if q else f"-{rest}"
-            L.append(f"    v{n + 1} = ({rest} + F * r{n}) * {inv}")
+            L.append(f"    v{n + 1} = ({rest}) * {inv} + (F * {inv}) * r{n}")
         else:
-            L.append(f"    v{n + 1} = F * r{n} * {inv}")
+            L.append(f"    v{n + 1} = (F * {inv}) * r{n}")
         qv = [f"e0 * v{n}"] + ([f"e1 * v{n - 1}"] if n >= 1 else []) + ([f"v{n - 2}"] if n >= 2 else [])
         ur = [f"u0 * r{n}"] + ([f"r{n - 1}"] if n >= 1 else [])
         L.append(f"    t{n + 1} = 2.0 * ({_sum(ur)}) * {inv}")
@@ -107,7 +109,8 @@ def generate_v(N):
         b_n = -r_s (i_n + s_n b_0 + B_n) = E_n + H x_n,   B_n = sum_{j=1..n-1} s_j b_{n-j}
         E_n = -r_s (B_n - i_0 P_n - h_s b_0 Q_n),  H = r_s (5/4 i_0^2 - h_s b_0)
 
-    with h_s = 1/(2 s_0), r_s = 1/s_0; s_n and i_n are computed beside the chain for the later sums.
+    with h_s = 1/(2 s_0), r_s = 1/s_0; s_n and i_n are computed beside the chain for the later sums,
+    and x_{n+1} = (v_0/(n+1)) b_n + b_{n-1}/(n+1) is one fused multiply-add on the chain.
     """
     L = ["def coefficients_v(v0, y, K, c):",
          '    """Phase v: Taylor coefficients of (x, tau, D) in h = v - v0 into c (3, ORDER+1)."""',
@@ -150,8 +153,8 @@ def generate_v(N):
             L.append(f"    i{n} = (P{n} + 1.25 * i0 * x{n}) * -i0")
         inv = repr(1.0 / (n + 1))
         vi = [f"g0 * i{n}"] + ([f"g1 * i{n - 1}"] if n >= 1 else []) + ([f"i{n - 2}"] if n >= 2 else [])
-        xb = f"v0 * b{n}" + (f" + b{n - 1}" if n >= 1 else "")
-        L.append(f"    x{n + 1} = ({xb}) * {inv}")
+        xb = f"(v0 * {inv}) * b{n}" + (f" + b{n - 1} * {inv}" if n >= 1 else "")
+        L.append(f"    x{n + 1} = {xb}")
         L.append(f"    t{n + 1} = b{n} * {inv}")
         L.append(f"    d{n + 1} = m2K * ({_sum(vi)}) * {inv}")
     L += _store(N, "x0")
