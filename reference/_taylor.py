@@ -74,6 +74,10 @@ if numba_config.DISABLE_JIT:  # NUMBA_DISABLE_JIT=1 (debugging): intrinsics cann
     def _float_bits(x):
         """The IEEE 754 bits of a float64 as an int."""
         return int(np.float64(x).view(np.int64))
+
+    def _bits_float(b):
+        """The float64 with IEEE 754 bits b."""
+        return float(np.int64(b).view(np.float64))
 else:
     @intrinsic
     def _float_bits(typingctx, x):
@@ -82,6 +86,13 @@ else:
             return builder.bitcast(args[0], ir.IntType(64))
         return types.int64(types.float64), codegen
 
+    @intrinsic
+    def _bits_float(typingctx, b):
+        """The float64 with IEEE 754 bits b (an int64)."""
+        def codegen(context, builder, signature, args):
+            return builder.bitcast(args[0], ir.DoubleType())
+        return types.float64(types.int64), codegen
+
 
 @_jit
 def _log2_approx(x):
@@ -89,6 +100,20 @@ def _log2_approx(x):
     mantissa fraction (the chord of log2 between powers of two). Subnormals come out too large,
     which only shortens the step."""
     return (_float_bits(x) - 0x3FF0000000000000) * (1.0 / 4503599627370496.0)
+
+
+@_jit
+def _exp2_approx(x):
+    """2^x to a relative 1e-5 for x in [-1000, 1000] (0 below): 2^floor(x) from the exponent
+    bits times a degree-6 Taylor polynomial of 2^f = exp(f ln 2), f in [0, 1). The step size
+    needs a few digits, and math.exp's latency is part of a step's cost."""
+    if x < -1000.0:
+        return 0.0
+    k = math.floor(x)
+    t = (x - k) * LN2
+    p = 1.0 + t * (1.0 + t * (0.5 + t * (1.0 / 6.0 + t * (1.0 / 24.0 + t * (1.0 / 120.0
+                                                                          + t * (1.0 / 720.0))))))
+    return p * _bits_float((int(k) + 1023) << 52)
 
 
 @_jit
@@ -114,13 +139,13 @@ def _step_size(c, s0, s1, s2):
             if not cj < np.inf:
                 return np.nan
             if cj > 0.0:
-                r = (log_s - _log2_approx(cj)) / j
+                r = (log_s - _log2_approx(cj)) * (1.0 / j)
                 if r < log_rho:
                     log_rho = r
                 used += 1
                 if used == 2 or j < N - 1:
                     break
-    return math.exp((log_rho + LOG2_TOL / N) * LN2) if log_rho < np.inf else np.inf
+    return _exp2_approx(log_rho + LOG2_TOL / N) if log_rho < np.inf else np.inf
 
 
 @_jit_fma
