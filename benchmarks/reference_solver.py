@@ -11,7 +11,7 @@ busy, machine. Printed, for the current (new) and the earlier (old) kernel and t
   interleaved; wall clock and process CPU time (the CPU figure is less affected by other jobs on
   the machine);
 - first call [s]: import plus the first solve in a fresh process with an empty numba cache (the
-  compile), and with the cache filled (what later processes pay);
+  compile), and with the cache filled (what later processes pay), one run each;
 - accuracy: the largest relative difference new vs old over the batch sample, field by field, and
   new vs the independent mpmath solution (tests/independent_solver.py) at a few K.
 
@@ -78,9 +78,12 @@ def timed(fn):
     return time.perf_counter() - w, time.process_time() - c
 
 
-def first_call_seconds(cache_dir):
-    """Wall time of `import reference; solve_collisions([0.3])` in a fresh process."""
-    code = ("import time; t = time.perf_counter(); from reference import solve_collisions; "
+def first_call_seconds(cache_dir, rev=None):
+    """Wall time of `import reference; solve_collisions([0.3])` in a fresh process, with the
+    kernel of this checkout or (rev) the old one."""
+    old = (f"from benchmarks.reference_solver import load_kernel; from reference import collision_ode; "
+           f"m = load_kernel({rev!r})[0]; collision_ode._kernel = lambda: m; ") if rev else ""
+    code = ("import time; t = time.perf_counter(); from reference import solve_collisions; " + old +
             "solve_collisions([0.3]); print(time.perf_counter() - t)")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), PYTHONPATH=str(ROOT))
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
@@ -124,9 +127,9 @@ def main():
 
     first = {}
     if not args.no_compile:
-        with tempfile.TemporaryDirectory() as cache:
-            first["compile"] = first_call_seconds(cache)
-            first["cached"] = first_call_seconds(cache)
+        for name, rev in (("new", None), ("old", args.baseline)):
+            with tempfile.TemporaryDirectory() as cache:
+                first[name] = (first_call_seconds(cache, rev), first_call_seconds(cache, rev))
 
     table_new = collision_ode.solve_collisions(sample)
     with kernel(old):
@@ -153,8 +156,11 @@ def main():
         print(f"  {label:30s} {r['new']:11.4g} {r['old']:11.4g} {r['new'] / r['old']:8.2f}"
               f"   (median of {REPEATS} batches of {BATCH} random K)")
     if first:
-        print(f"  first call, empty numba cache: {first['compile']:.1f} s; with the cache: "
-              f"{first['cached']:.2f} s (new kernel, import included)")
+        (new_compile, new_cached), (old_compile, old_cached) = first["new"], first["old"]
+        print(f"  {'first call, empty cache [s]':30s} {new_compile:11.1f} {old_compile:11.1f} "
+              f"{new_compile / old_compile:8.2f}   (compile; import included)")
+        print(f"  {'first call, cache filled [s]':30s} {new_cached:11.2f} {old_cached:11.2f} "
+              f"{new_cached / old_cached:8.2f}")
     name = max(worst, key=worst.get)
     print(f"  largest relative difference new vs old over the batch sample: {worst[name]:.1e} ({name})")
     name = max(worst_mp, key=worst_mp.get)

@@ -16,7 +16,9 @@ Phase "v" (v = x' independent, state y = (x, tau, D); a = -x^{1/2} (K v + 5/4 x)
 
 Step size: the last two coefficients c_j (j = ORDER-1, ORDER) of each component give a radius
 estimate rho = min_j (S / |c_j|)^{1/j}, S the component's scale (|v| or x, max(|tau|, 1),
-max(|D|, |K|)); the step is rho TOL^{1/ORDER}, so that the first neglected term is ~TOL S. A
+max(|D|, |K|)); the step is rho TOL^{1/ORDER}, so that the first neglected term is ~TOL S (the
+logarithms and the power of two are taken from the floats' bits to a few digits: the step moves
+by < 0.3 %, which the error ~(h/rho)^(ORDER+1) does not notice). A
 component whose last two coefficients vanish uses its last nonzero one among the last six: at
 K = 0 and u = 0 most coefficients vanish (v = 1 - u^5/2 + ..., powers of u^5 only). The step
 ending a phase is shortened to land on it. The step is bounded by the distance to the nearest
@@ -26,6 +28,15 @@ so the steps near a phase end that lies close to one grow geometrically, ~1.2 ti
 The dense output is the step's Taylor polynomial itself, as accurate as the step ends: the
 force zero and the force maximum are found on it with Brent's method, and the trajectory
 samples are evaluated on it.
+
+Cost. A K takes 35 (K = 0) to 65 (K = 10) steps, most of them in phase C, whose start lies near
+the branch point of v(u) at the maximum compression. A step costs a few hundred ns: the
+coefficients (straight-line code, fused multiply-adds, the chain from one order to the next one
+multiply-add per link), the step size and the evaluation at the step end, without allocation.
+Kept out on purpose: fastmath reassociation (results would depend on LLVM's vectorisation),
+a looser TOL (1e-15 would be ~9 % faster and ~4x less accurate), and stacking K values in SIMD
+lanes (numba does not vectorise the unrolled recurrences over a lane loop; interleaved lanes
+compiled for a minute and ran slower).
 """
 
 from __future__ import annotations
