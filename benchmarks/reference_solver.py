@@ -1,77 +1,174 @@
-"""Speed of the reference solver (compiled Taylor method) against the DOP853 solver it replaced.
+"""Speed of the reference solver's compiled kernel against an earlier version of it, in one run.
 
-Prints medians over repeated runs in one process (after a warm-up call, so numba's compilation
-or cache load is not timed): one K per call (ms), batch throughput on one core for sweeps of
-1,000 and 10,000 K in [0, 10], the ratio new/old, and the largest relative deviation between
-the two solvers over the 1,000-K sweep. The old solver is timed on fewer K (it is slow); its
-rates are K per second all the same. Run with `make bench` (pinned to one core there).
-Targets of the speed issue: <= 1 ms per single K, >= 1e5 K/s in a batch.
+The earlier kernel (reference/_taylor.py at --baseline, default the commit before the speed work;
+it must be self-contained, as it was there) is copied out of git into a temporary folder and
+imported next to the current one, so that both are timed in the same process on the same, possibly
+busy, machine. Printed, for the current (new) and the earlier (old) kernel and their ratio:
+
+- one K a call [ms]: solve_collision(K) through the public API, median over repeats of the mean
+  over 41 K in [0, 10];
+- batch [K/s]: solve_collisions on 2000 random K in [0, 10], median over repeats, old and new
+  interleaved; wall clock and process CPU time (the CPU figure is less affected by other jobs on
+  the machine);
+- first call [s]: import plus the first solve in a fresh process with an empty numba cache (the
+  compile), and with the cache filled (what later processes pay), one run each;
+- accuracy: the largest relative difference new vs old over the batch sample, field by field, and
+  new vs the independent mpmath solution (tests/independent_solver.py) at a few K.
+
+Targets of the speed issue: <= 1 ms per single K, >= 1e5 K/s in a batch on one core. Run with
+`make bench` (pinned to one core there).
 """
 
+import argparse
+import importlib.util
+import os
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
+from contextlib import contextmanager
 from dataclasses import fields
+from pathlib import Path
 
 import numpy as np
 
-from reference import collision_ode, collision_ode_scipy
+from reference import collision_ode
 
-REPEATS = 7
-
-
-def median_seconds(fn, repeats=REPEATS):
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+ROOT = Path(__file__).resolve().parents[1]
+BASELINE = "b0fd1fc"  # the branch point of the speed work
+REPEATS = 9
+BATCH = 2000
+MPMATH_K = ("0.1", "0.37", "1")  # where tests/independent_solver.py applies
 
 
-def single_ms(module, Ks, repeats):
-    """Median over `repeats` of the mean time of solve_collision(K) over Ks, in ms."""
-    return median_seconds(lambda: [module.solve_collision(float(k)) for k in Ks], repeats) / len(Ks) * 1e3
+def load_kernel(rev):
+    """reference/_taylor.py at git revision `rev`, imported as a module of its own (its numba
+    cache lives in a per-revision temporary folder, so a second run loads it)."""
+    sha = subprocess.run(["git", "rev-parse", "--short", rev], cwd=ROOT, capture_output=True,
+                         text=True, check=True).stdout.strip()
+    folder = Path(tempfile.gettempdir()) / f"reference-kernel-{sha}"
+    folder.mkdir(exist_ok=True)
+    path = folder / "_taylor_old.py"
+    source = subprocess.run(["git", "show", f"{sha}:reference/_taylor.py"], cwd=ROOT,
+                            capture_output=True, text=True, check=True).stdout
+    if not path.exists() or path.read_text() != source:
+        path.write_text(source)
+    spec = importlib.util.spec_from_file_location("_taylor_old", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # numba's cache finds the module by name
+    spec.loader.exec_module(module)
+    return module, sha
 
 
-def rate(module, K, repeats):
-    return len(K) / median_seconds(lambda: module.solve_collisions(K), repeats)
+@contextmanager
+def kernel(module):
+    """The public API (collision_ode) running on `module`."""
+    saved = collision_ode._kernel
+    collision_ode._kernel = lambda: module
+    try:
+        yield
+    finally:
+        collision_ode._kernel = saved
 
 
-def max_deviation(K):
-    new, old = collision_ode.solve_collisions(K), collision_ode_scipy.solve_collisions(K)
-    worst = {}
-    for f in fields(new):
-        if f.name in ("K", "energy_residual"):
-            continue
-        a, b = getattr(new, f.name), getattr(old, f.name)
-        worst[f.name] = float(np.max(np.abs(a - b) / np.where(b == 0, 1.0, np.abs(b))))
-    return worst
+def timed(fn):
+    w, c = time.perf_counter(), time.process_time()
+    fn()
+    return time.perf_counter() - w, time.process_time() - c
+
+
+def first_call_seconds(cache_dir, rev=None):
+    """Wall time of `import reference; solve_collisions([0.3])` in a fresh process, with the
+    kernel of this checkout or (rev) the old one."""
+    old = (f"from benchmarks.reference_solver import load_kernel; from reference import collision_ode; "
+           f"m = load_kernel({rev!r})[0]; collision_ode._kernel = lambda: m; ") if rev else ""
+    code = ("import time; t = time.perf_counter(); from reference import solve_collisions; " + old +
+            "solve_collisions([0.3]); print(time.perf_counter() - t)")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), PYTHONPATH=str(ROOT))
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         check=True, cwd=ROOT)
+    return float(out.stdout.split()[-1])
+
+
+def relative_difference(a, b):
+    return np.abs(a - b) / np.where(b == 0, 1.0, np.abs(b))
 
 
 def main():
-    sweep_1k, sweep_10k = np.linspace(0.0, 10.0, 1000), np.linspace(0.0, 10.0, 10000)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--baseline", default=BASELINE, help="git revision of the old kernel")
+    parser.add_argument("--no-compile", action="store_true", help="skip the first-call timing")
+    args = parser.parse_args()
+
+    new = collision_ode._kernel()
+    old, sha = load_kernel(args.baseline)
+    rng = np.random.default_rng(2024)
+    sample = rng.uniform(0.0, 10.0, BATCH)
     singles = np.linspace(0.0, 10.0, 41)
-    collision_ode.solve_collisions([0.3])  # compile or load numba's cache: not timed
-    collision_ode_scipy.solve_collisions([0.3])
+    modules = {"new": new, "old": old}
+    for module in modules.values():  # compile or load numba's cache: not timed
+        with kernel(module):
+            collision_ode.solve_collisions([0.3])
 
-    new_1 = single_ms(collision_ode, singles, REPEATS)
-    old_1 = single_ms(collision_ode_scipy, singles[::4], 3)
-    new_1k, new_10k = rate(collision_ode, sweep_1k, REPEATS), rate(collision_ode, sweep_10k, 3)
-    old_1k = rate(collision_ode_scipy, sweep_1k, 3)
-    old_10k = old_1k  # the stacked DOP853 runs in batches of 128: its rate does not depend on the sweep
-    worst = max_deviation(sweep_1k)
+    single = {name: [] for name in modules}
+    wall = {name: [] for name in modules}
+    cpu = {name: [] for name in modules}
+    for _ in range(REPEATS):  # interleaved, so that both see the same load
+        for name, module in modules.items():
+            with kernel(module):
+                w, _ = timed(lambda: [collision_ode.solve_collision(float(k)) for k in singles])
+                single[name].append(w / len(singles) * 1e3)
+                w, c = timed(lambda: collision_ode.solve_collisions(sample))
+                wall[name].append(BATCH / w)
+                cpu[name].append(BATCH / c if c > 0 else np.nan)
+    med = {key: {name: statistics.median(v[name]) for name in modules}
+           for key, v in (("single", single), ("wall", wall), ("cpu", cpu))}
 
-    print("reference solver: compiled Taylor method (new) vs scipy DOP853 (old), K in [0, 10], one core")
-    print(f"  {'':24s} {'new':>12s} {'old':>12s} {'new/old':>9s}")
-    print(f"  {'one K a call [ms]':24s} {new_1:12.4f} {old_1:12.2f} {new_1 / old_1:9.4f}   "
-          f"(median of {REPEATS}, mean over {len(singles)} K)")
-    print(f"  {'batch 1000 K [K/s]':24s} {new_1k:12.4g} {old_1k:12.4g} {new_1k / old_1k:9.1f}")
-    print(f"  {'batch 10000 K [K/s]':24s} {new_10k:12.4g} {old_10k:12.4g} {new_10k / old_10k:9.1f}   "
-          f"(old: its 1000-K rate)")
+    first = {}
+    if not args.no_compile:
+        for name, rev in (("new", None), ("old", args.baseline)):
+            with tempfile.TemporaryDirectory() as cache:
+                first[name] = (first_call_seconds(cache, rev), first_call_seconds(cache, rev))
+
+    table_new = collision_ode.solve_collisions(sample)
+    with kernel(old):
+        table_old = collision_ode.solve_collisions(sample)
+    worst = {f.name: float(np.max(relative_difference(getattr(table_new, f.name),
+                                                      getattr(table_old, f.name))))
+             for f in fields(table_new) if f.name not in ("K", "energy_residual")}
+    sys.path.insert(0, str(ROOT / "tests"))
+    from independent_solver import solve_high_precision
+    worst_mp = {}
+    for K in MPMATH_K:
+        exact = solve_high_precision(K, dps=25)
+        fast = collision_ode.solve_collision(float(K))
+        for key, value in exact.items():
+            worst_mp[key] = max(worst_mp.get(key, 0.0), abs(fast[key] / float(value) - 1.0))
+
+    print(f"reference solver kernel: new (this checkout) vs old ({sha}), K in [0, 10], one process")
+    print(f"  {'':30s} {'new':>11s} {'old':>11s} {'new/old':>8s}")
+    s = med["single"]
+    print(f"  {'one K a call [ms]':30s} {s['new']:11.4f} {s['old']:11.4f} {s['new'] / s['old']:8.3f}"
+          f"   (median of {REPEATS}, mean over {len(singles)} K)")
+    for key, label in (("wall", "batch [K/s], wall clock"), ("cpu", "batch [K/s], process CPU")):
+        r = med[key]
+        print(f"  {label:30s} {r['new']:11.4g} {r['old']:11.4g} {r['new'] / r['old']:8.2f}"
+              f"   (median of {REPEATS} batches of {BATCH} random K)")
+    if first:
+        (new_compile, new_cached), (old_compile, old_cached) = first["new"], first["old"]
+        print(f"  {'first call, empty cache [s]':30s} {new_compile:11.1f} {old_compile:11.1f} "
+              f"{new_compile / old_compile:8.2f}   (compile; import included)")
+        print(f"  {'first call, cache filled [s]':30s} {new_cached:11.2f} {old_cached:11.2f} "
+              f"{new_cached / old_cached:8.2f}")
     name = max(worst, key=worst.get)
-    print(f"  largest relative deviation new vs old over the 1000-K sweep: {worst[name]:.1e} ({name})")
-    print(f"  targets: <= 1 ms one K a call: {'met' if new_1 <= 1.0 else 'NOT met'}; "
-          f">= 1e5 K/s in a batch: {'met' if min(new_1k, new_10k) >= 1e5 else 'NOT met'}")
+    print(f"  largest relative difference new vs old over the batch sample: {worst[name]:.1e} ({name})")
+    name = max(worst_mp, key=worst_mp.get)
+    print(f"  largest relative difference new vs mpmath at K = {', '.join(MPMATH_K)}: "
+          f"{worst_mp[name]:.1e} ({name})")
+    print(f"  targets: <= 1 ms one K a call: {'met' if s['new'] <= 1.0 else 'NOT met'}; "
+          f">= 1e5 K/s in a batch: {'met' if med['wall']['new'] >= 1e5 else 'NOT met'}"
+          f" (wall clock; CPU time: {'met' if med['cpu']['new'] >= 1e5 else 'NOT met'})")
 
 
 if __name__ == "__main__":

@@ -32,8 +32,9 @@ maximum compression and both ends are integration end points rather than located
 
 Each phase is integrated with a compiled (numba) Taylor-series method of degree 22 (module
 `reference._taylor`): both phase systems are polynomials, square roots and quotients, whose
-Taylor coefficients follow from short recurrences, and the step is chosen from the decay of the
-last coefficients so that the first neglected term is ~1e-16 of the state. The step polynomials
+Taylor coefficients follow from short recurrences (unrolled to straight-line code by
+`reference._generate_coefficients`), and the step is chosen from the decay of the last
+coefficients so that the first neglected term is ~1e-16 of the state. The step polynomials
 are the dense output: the force zero (F0 criterion) and the maximum force are found on them with
 Brent's method, and `collision_trajectory` samples them. K values are solved one after the other
 in compiled code (no stacking), so a batch costs what its K cost one at a time. The first call in

@@ -203,3 +203,13 @@ def test_trajectory_agrees_with_the_dop853_trajectory():
     assert np.abs(x_of_tau(old["tau"][inside]) - old["x"][inside]).max() < 1e-11  # seen: 1.6e-13
     assert new["tau"][-1] == pytest.approx(old["tau"][-1], rel=1e-12)
     assert new["dissipated"][-1] == pytest.approx(old["dissipated"][-1], rel=1e-12)
+
+
+def test_generated_coefficients_are_current():
+    """reference/_coefficients.py is what its generator writes, and reference/_taylor.py records
+    its digest (numba's cache of _taylor.py is keyed by that file alone)."""
+    from pathlib import Path
+    from reference import _coefficients, _generate_coefficients, _taylor
+    text = Path(_coefficients.__file__).read_text()
+    assert text == _generate_coefficients.source()
+    assert _taylor.COEFFICIENTS_SHA256 == _generate_coefficients.digest(text)
