@@ -255,7 +255,7 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
     lines += ["", legend(tolerance, na=bool(notes), none=has_none), ""]
     if notes:
         lines += ["Not available (the build's code cannot express the law; nothing is run, nothing is gated):", ""]
-        lines += [f"{n}. {code}: {reason}" for (code, reason), n in notes.items()] + [""]
+        lines += [f"{n}. {code}: {md_text(reason)}" for (code, reason), n in notes.items()] + [""]
     lines += code_notes_markdown(code_notes, list(pd.unique(cells.engine)))
     return lines
 
@@ -272,12 +272,18 @@ def legend(tolerance: Mapping[str, float], na: bool = True, none: bool = True) -
             + " Every check, with the K, case and run of its worst error: [checks.csv](checks.csv).")
 
 
+def md_text(text: str) -> str:
+    """Plain text for Markdown: the physics' asterisks (R*, E*, M*) and underscores (DEM_D_...)
+    escaped, so that they print instead of turning text italic."""
+    return text.replace("\\", "\\\\").replace("*", "\\*").replace("_", "\\_")
+
+
 def code_notes_markdown(code_notes: Mapping[str, Sequence[str]] | None, codes: Sequence[str]) -> list[str]:
     """Each code's notes (`engines.codes.EngineCode.notes`) as a Markdown list, codes in order."""
     items = [(c, n) for c in codes for n in (code_notes or {}).get(c, ())]
     if not items:
         return []
-    return ["How the codes run the study:", ""] + [f"- **{c}**: {n}" for c, n in items] + [""]
+    return ["How the codes run the study:", ""] + [f"- **{c}**: {md_text(n)}" for c, n in items] + [""]
 
 
 def matrix_html(cells: pd.DataFrame) -> str:
@@ -411,7 +417,7 @@ def default_matrix_markdown(cells: pd.DataFrame) -> list[str]:
         lines.append(f"| **{b}** | " + " | ".join(_default_text(by_key[(b, g)]) if (b, g) in by_key else "–"
                                                    for g in geometries) + " |")
     reasons = cells[cells.status == "n/a"].drop_duplicates(["engine", "reason"])
-    lines += [""] + [f"n/a in {r.engine}: {r.reason}" for r in reasons.itertuples()]
+    lines += [""] + [f"n/a in {r.engine}: {md_text(r.reason)}" for r in reasons.itertuples()]
     return lines + [""] if len(reasons) else lines
 
 
