@@ -128,10 +128,15 @@ def _name(r) -> str:
     return " ".join(str(r[k]) for k in KEY)
 
 
+def _error(e) -> str:
+    """An error as printed: 'no result' where the run left none (it failed or crashed)."""
+    return "no result" if isinstance(e, float) and math.isnan(e) else f"{e:.3e}"
+
+
 def _verdict_line(r) -> str:
     what = {True: "pass", False: "FAIL"}
-    return (f"{_name(r)}: {r['baseline_error']:.3e} ({what.get(r['baseline_pass'], '-')}) -> "
-            f"{r['candidate_error']:.3e} ({what.get(r['candidate_pass'], '-')})")
+    return (f"{_name(r)}: {_error(r['baseline_error'])} ({what.get(r['baseline_pass'], '-')}) -> "
+            f"{_error(r['candidate_error'])} ({what.get(r['candidate_pass'], '-')})")
 
 
 def markdown(comparison: pd.DataFrame, baseline: str, candidate: str, factor: float, noise_floor: float) -> str:
