@@ -19,6 +19,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
 REPEATS = 3
@@ -67,15 +68,19 @@ def run(target) -> tuple[float, int, int]:
     """(wall seconds, peak tree PSS, peak tree RSS [bytes]) of one `snakemake -j2 --forceall target`."""
     t0 = time.perf_counter()
     run.started = time.time()
-    proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "--forceall", "--rerun-incomplete", *target],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    peak_pss = peak_rss = 0
-    while proc.poll() is None:
-        pss, rss = tree_memory_bytes(proc.pid)
-        peak_pss, peak_rss = max(peak_pss, pss), max(peak_rss, rss)
-        time.sleep(0.05)
-    wall = time.perf_counter() - t0
-    output = proc.stdout.read()
+    # Its output goes to a file, not a pipe: nobody reads a pipe while the memory is sampled,
+    # and a full pipe (64 KiB) would block a job writing to it, and so the study, for ever.
+    with tempfile.TemporaryFile(mode="w+") as out:
+        proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "--forceall", "--rerun-incomplete",
+                                 *target], stdout=out, stderr=subprocess.STDOUT, text=True)
+        peak_pss = peak_rss = 0
+        while proc.poll() is None:
+            pss, rss = tree_memory_bytes(proc.pid)
+            peak_pss, peak_rss = max(peak_pss, pss), max(peak_rss, rss)
+            time.sleep(0.05)
+        wall = time.perf_counter() - t0
+        out.seek(0)
+        output = out.read()
     if proc.returncode != 0:
         print(output[-3000:])
         raise SystemExit(f"snakemake {' '.join(target)} failed; see above")
