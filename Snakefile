@@ -47,7 +47,7 @@ os.environ["PYTHONPATH"] = os.pathsep.join(
     [workflow.basedir, f"{workflow.basedir}/workflow/scripts", os.environ.get("PYTHONPATH", "")])
 
 from contact_model import load_case  # noqa: E402
-from engines.plan import plan_runs  # noqa: E402
+from engines.plan import plan_listing, plan_runs  # noqa: E402
 
 EXTRAS = config["extras"]
 import engines.codes  # noqa: E402

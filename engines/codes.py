@@ -78,6 +78,12 @@ class EngineCode:
     default_law: str = ""
     notes: tuple[str, ...] = ()
 
+    def expected_seconds(self, runs: int, steps: int) -> float:
+        """The sweep's expected length [s] by the cost model (rounded up about twice): the basis
+        of its time limit, and of the order in which the workflow starts engine jobs."""
+        c = self.cost
+        return c.start_s + runs * c.per_run_s + steps * c.per_step_s
+
     def runner(self):
         """The sweep runner (imported on first use: drivers import numpy and the post-processing)."""
         module, function = self.driver.split(":")

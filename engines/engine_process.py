@@ -45,8 +45,7 @@ def time_limit(engine: str, specs, floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> 
     e.g. a LIGGGHTS sweep of 36 runs of 2 600 steps: 10 * (1 + 0.07 + 1.4) = 25 s -> the 60 s floor."""
     if not (floor_s > 0 and math.isfinite(floor_s)):
         raise ValueError(f"the engine time-limit floor must be a positive number of seconds, got {floor_s}")
-    c = code(engine).cost
-    expected = c.start_s + len(specs) * c.per_run_s + sum(s.steps() for s in specs) * c.per_step_s
+    expected = code(engine).expected_seconds(len(specs), sum(s.steps() for s in specs))
     return max(float(floor_s), SAFETY_FACTOR * expected)
 
 

@@ -119,7 +119,9 @@ def run_esys(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     cmd = mpirun_command(mpi, exe, DRIVER, str(job_path))
     sweep = Sweep()
     limit = time_limit("esys", specs, timeout_floor_s)
-    done = run_logged(cmd, log, limit, cwd=workdir, env={"PYTHONUNBUFFERED": "1"})
+    # Open MPI's ranks spin while they wait for each other: yielding lets the other engine job
+    # of a two-core study use the core (steel sweep alone: 3.6 -> 2.9 CPU s, 2.2 -> 1.8 s wall).
+    done = run_logged(cmd, log, limit, cwd=workdir, env={"PYTHONUNBUFFERED": "1", "OMPI_MCA_mpi_yield_when_idle": "1"})
     sweep.engine_seconds = done.seconds
     printed = log.read_text(errors="replace") if log.exists() else ""
     status = json.loads(status_path.read_text()) if status_path.exists() else None

@@ -34,7 +34,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from contact_model import Case, CaseError
+from contact_model.case_file import Case, CaseError
+from contact_model.contact_pair import Body, ContactPair
+from postprocess.verdict_files import file_sha256
 from reference import solve_collision, solve_collisions
 
 from .codes import law_unavailable
@@ -218,9 +220,16 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     return plan
 
 
+def _body(body) -> dict:
+    return {"radius": body.radius, "density": body.density, "young": body.young, "poisson": body.poisson}
+
+
 def plan_listing(case: Case, plan: Plan) -> dict:
-    """The plan as plain data (plan.json): every run with what it needs and its reference row."""
-    return {"case": case.name, "file": case.path,
+    """The plan as plain data (plan.json): the case's contact pairs, every run with what it
+    needs and its reference row, and the sha256 of the case file it was made from."""
+    return {"case": case.name, "file": case.path, "case_sha256": file_sha256(case.path),
+            "pairs": {p.geometry: {"body_1": _body(p.body_1), "body_2": _body(p.body_2), "E": p.E, "eta": p.eta}
+                      for p in case.pairs},
             "runs": [{"name": r.name, "build": r.build, "engine": r.engine, "law": r.law, "geometry": r.pair.geometry,
                       "represents": list(r.represents), "velocity": r.velocity, "K": r.K,
                       "time_step_factor": r.time_step_factor, "time_step": r.time_step, "steps": r.steps(),
@@ -229,19 +238,31 @@ def plan_listing(case: Case, plan: Plan) -> dict:
             "not_run": plan.skipped, "not_available": plan.not_available}
 
 
-def runs_from_listing(case: Case, listing: dict, build: str) -> list[RunSpec]:
+def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunSpec]:
     """The runs of build `build` (its id) in a plan listing (plan_listing), rebuilt with their reference rows,
     so that no later rule solves the ODE again. A listing that does not match the case (a run
-    whose name comes out different) is an error: the plan is stale."""
+    whose name comes out different) is an error: the plan is stale.
+
+    With `case` None the contact pairs come from the listing itself, and the case file it
+    names must still have the sha256 it was planned from: an engine job then reads no case
+    file and no units (pint), which was a third of its own time."""
+    if case is None:
+        if file_sha256(listing["file"]) != listing["case_sha256"]:
+            raise ValueError(f"{listing['file']} changed after its plan was made: the plan is stale: rerun the study")
+        pairs = {g: ContactPair(g, Body(**p["body_1"]), Body(**p["body_2"]), p["E"], p["eta"])
+                 for g, p in listing["pairs"].items()}
+        name = listing["case"]
+    else:
+        pairs, name = {p.geometry: p for p in case.pairs}, case.name
     runs = []
     for entry in listing["runs"]:
         if entry["build"] != build:
             continue
-        spec = RunSpec(case.name, entry["engine"], entry["law"], case.pair(entry["geometry"]), entry["velocity"],
+        spec = RunSpec(name, entry["engine"], entry["law"], pairs[entry["geometry"]], entry["velocity"],
                        entry["time_step_factor"], matched_restitution=entry["matched_restitution"],
                        reference=entry["reference"], build=build)
         if spec.name != entry["name"]:
-            raise ValueError(f"{case.path}: the plan lists run {entry['name']!r} but the case gives {spec.name!r}; "
+            raise ValueError(f"{listing['file']}: the plan lists run {entry['name']!r} but the case gives {spec.name!r}; "
                              "the plan is stale: rerun the study")
         runs.append(spec)
     return runs

@@ -89,8 +89,13 @@ def test_plan_listing_hands_on_runs_and_their_reference_and_refuses_a_stale_plan
     for r in runs:
         assert r.steps() == next(e["steps"] for e in listing["runs"] if e["name"] == r.name)
         assert r.reference == plan_module.solve_collisions([r.K]).row(0)  # the plan's batch, bit for bit
+    # An engine job rebuilds the same runs from the listing alone (no case file parsed, no pint).
+    alone = runs_from_listing(None, listing, "yade")
+    assert [r.name for r in alone] == [r.name for r in runs] and [r.pair for r in alone] == [r.pair for r in runs]
     # A plan made for other numbers (here: another density) no longer names the case's runs.
     path.write_text(path.read_text().replace("7800 kg/m^3", "7850 kg/m^3"))
+    with pytest.raises(ValueError, match=r"changed after its plan was made: the plan is stale: rerun the study"):
+        runs_from_listing(None, listing, "yade")
     with pytest.raises(ValueError, match=r"the plan is stale: rerun the study"):
         runs_from_listing(load_case(path), listing, "yade")
 

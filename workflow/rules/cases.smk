@@ -29,11 +29,13 @@ CASES = case_files()
 # Every case is validated and planned here, before any job (let alone an engine) starts: a
 # malformed case, or one the engines cannot run honestly (engines.plan), stops the workflow with
 # the file, the field and the reason. Two files may not claim one case name.
-_names = {}
+# The plans made here are what the plan rule writes (results/<case>/plan.json): planned once.
+_names, PLANS = {}, {}
 for _stem, _path in CASES.items():
     _case = load_case(_path)
-    plan_runs(_case, SETTINGS["builds"], config["laws"], config["K_grid"], config["time_step_factor"],
-              config["default_law_match_K"], config["max_overlap_ratio"])
+    PLANS[_stem] = plan_listing(_case, plan_runs(
+        _case, SETTINGS["builds"], config["laws"], config["K_grid"], config["time_step_factor"],
+        config["default_law_match_K"], config["max_overlap_ratio"]))
     _case_name = _case.name
     if _case_name in _names:
         raise ValueError(f"{_path}: field 'name': {_case_name!r} is already the name of {_names[_case_name]}")

@@ -6,8 +6,15 @@ rule plan:
     input: case=lambda w: CASES[w.case], codes=CODES_FILE  # which laws each code can run
     output: "results/{case}/plan.json"
     log: "logs/{case}/plan.log"
-    params: settings=SETTINGS
+    params: listing=lambda w: PLANS[w.case]  # planned when the workflow started (workflow/rules/cases.smk)
     script: "../scripts/plan_case.py"
+
+
+def engine_priority(wildcards):
+    """Longest expected sweep first (engines.codes cost model, from the plan's steps): two
+    lanes finish together when the long jobs start early, not last."""
+    runs = [r for r in PLANS[wildcards.case]["runs"] if r["build"] == wildcards.build]
+    return 1 + int(10 * CODES[BUILDS[wildcards.build].code].expected_seconds(len(runs), sum(r["steps"] for r in runs)))
 
 
 rule run_engine:
@@ -24,6 +31,7 @@ rule run_engine:
     benchmark: "benchmarks/{case}/{build}.tsv"
     params: settings=SETTINGS, build=lambda w: build_params(w.build)
     threads: 1
+    priority: engine_priority
     resources: runtime=30, mem_mb=2000
     script: "../scripts/run_engine.py"
 

@@ -1,19 +1,19 @@
 """Snakemake script: the runs of one case (results/<case>/plan.json), validated before any engine,
-with the reference solution of every run solved once, in one batch, and handed on."""
+with the reference solution of every run solved once, in one batch, and handed on.
+
+The plan itself is made when the workflow starts (workflow/rules/cases.smk, which refuses a case
+the engines cannot run before any job): this job only writes it, so it imports nothing heavy.
+"""
 
 import json
 
 from common import start_rule
-from contact_model import load_case
-from engines.plan import plan_listing, plan_runs
+from postprocess.verdict_files import write_atomically
 
 log = start_rule(snakemake)
-s = snakemake.params.settings
-case = load_case(snakemake.input.case)
-plan = plan_runs(case, s["builds"], s["laws"], s["K_grid"], s["time_step_factor"], s["default_law_match_K"],
-                 s["max_overlap_ratio"])
-with open(snakemake.output[0], "w") as f:
-    json.dump(plan_listing(case, plan), f, indent=1)
-log.info("%s: %d runs planned, %d velocities not run", case.path, len(plan.runs), len(plan.skipped))
-for skipped in plan.skipped:
-    log.warning("not run: %s %s K = %.3g: %s", case.name, skipped["geometry"], skipped["K"], skipped["reason"])
+listing = snakemake.params.listing
+write_atomically(snakemake.output[0], json.dumps(listing, indent=1))
+log.info("%s: %d runs planned, %d velocities not run, %d cells not available", listing["file"], len(listing["runs"]),
+         len(listing["not_run"]), len(listing["not_available"]))
+for skipped in listing["not_run"]:
+    log.warning("not run: %s %s K = %.3g: %s", listing["case"], skipped["geometry"], skipped["K"], skipped["reason"])

@@ -10,7 +10,6 @@ engine stops the rule at once (that is set-up, not a verdict).
 import json
 
 from common import start_rule
-from contact_model import load_case
 from engines import GATED_LAWS, run_sweep
 from engines.builds import Build
 from engines.plan import runs_from_listing
@@ -19,9 +18,10 @@ from postprocess.run_manifest import write_manifest
 log = start_rule(snakemake)
 s = snakemake.params.settings
 build = Build(**snakemake.params.build)
-case = load_case(snakemake.input.case)
-runs = runs_from_listing(case, json.load(open(snakemake.input.plan)), build.id)  # the plan's runs, solved there
-log.info("%s: %d runs of build %s (%s) into %s", case.name, len(runs), build.id, build.executable,
+listing = json.load(open(snakemake.input.plan))
+runs = runs_from_listing(None, listing, build.id)  # the plan's runs and pairs, solved there: no case file read
+case_name = listing["case"]
+log.info("%s: %d runs of build %s (%s) into %s", case_name, len(runs), build.id, build.executable,
          snakemake.output.runs)
 sweep = run_sweep(build, runs, snakemake.output.runs, timeout_floor_s=s["engine_timeout_floor_s"])
 law = {r.name: r.law for r in runs}
@@ -32,6 +32,6 @@ for name, err in sweep.failures.items():
         log.warning("out-of-the-box run failed (reported, not gated): %s", err)
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs if r.name in sweep.dumps],
                [{"run": n, "law": law[n], "problem": e.problem, "log": e.log_path} for n, e in sweep.failures.items()],
-               case=case.name, build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds)
+               case=case_name, build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds)
 log.info("%d runs landed, %d failed; engine process %.2f s", len(sweep.dumps), len(sweep.failures),
          sweep.engine_seconds)
