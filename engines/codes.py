@@ -59,6 +59,8 @@ class EngineCode:
         Measured process costs, rounded up about twice (`engines.engine_process.time_limit`).
     unavailable : dict
         {law: reason} for the laws this code cannot express.
+    processes : int
+        How many cores one of its processes keeps busy (the engine job's Snakemake `threads`).
     default_law : str
         What its out-of-the-box law is, in the engine's words (the report's default-law section).
     notes : tuple of str
@@ -75,6 +77,7 @@ class EngineCode:
     decks: tuple[str, ...]
     cost: EngineCost
     unavailable: dict[str, str] = field(default_factory=dict)
+    processes: int = 1
     default_law: str = ""
     notes: tuple[str, ...] = ()
 
@@ -141,6 +144,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         default_criterion="x0",  # HertzMindlinViscoPrms does not clip its force: the tail is kept
         driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
         default_law="`HertzMindlinViscoPrms` with its restitution coefficient",
+        processes=2,  # mpirun -np 2: a master and a worker, both busy during a sweep
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=500e-6),
         unavailable={
             "viscoelastic": "ESyS's HertzianViscoElastic force is clipped at zero (no attractive tail): "

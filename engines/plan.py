@@ -99,9 +99,10 @@ def _velocities(case: Case, pair, K_grid) -> list[tuple[float, str, str, float |
     return out
 
 
-def _checked(case: Case, pair, v: float, where: str, what: str, K_target, time_step_factor: float
-             ) -> tuple[dict, RunSpec]:
-    """The scales at `v` and a probe run, refusing what is not a finite positive double."""
+def _checked(case: Case, pair, v: float, where: str, what: str, K_target, time_step_factor: float,
+             solved: dict | None = None) -> tuple[dict, RunSpec]:
+    """The scales at `v` and a probe run, refusing what is not a finite positive double.
+    `solved` ({K: reference row}) spares the probe its own solve of the ODE (for its steps)."""
     def refuse(problem):
         raise PlanError(case.path, where, f"{pair.geometry}, {what}: {problem}; the engines cannot run it")
 
@@ -109,7 +110,8 @@ def _checked(case: Case, pair, v: float, where: str, what: str, K_target, time_s
         refuse(f"the impact velocity would be {v:g} m/s (V_D = {pair.viscous_velocity:g} m/s)")
     try:
         scales = pair.scales(v)
-        spec = RunSpec(case.name, ENGINES[0], "viscoelastic", pair, v, time_step_factor)
+        spec = RunSpec(case.name, ENGINES[0], "viscoelastic", pair, v, time_step_factor,
+                       reference=(solved or {}).get(scales["K"]))
         derived = {**scales, "dt": spec.time_step, "gap": spec.initial_gap(), **spec.initial_state()}
     except (OverflowError, ZeroDivisionError, ValueError) as err:
         refuse(f"the Hertz scales overflow ({err})")
@@ -121,6 +123,22 @@ def _checked(case: Case, pair, v: float, where: str, what: str, K_target, time_s
     if K_target is not None and not math.isclose(scales["K"], K_target, rel_tol=1e-9):
         refuse(f"the velocity {v:g} m/s gives K = {scales['K']:.12g}: precision lost")
     return scales, spec
+
+
+def _solved_in_one_batch(case: Case, velocities: dict) -> dict:
+    """{K: reference row} of every velocity of the case whose K is a number the solver takes
+    (0 <= K <= 10), solved in one batch; the others are refused or solved later, one by one."""
+    Ks = set()
+    for pair in case.pairs:
+        for v, *_ in velocities[pair.geometry]:
+            try:
+                K = pair.dissipation_parameter(v)
+            except (OverflowError, ZeroDivisionError, ValueError):
+                continue
+            if math.isfinite(K) and 0 <= K <= 10:
+                Ks.add(K)
+    Ks = sorted(Ks)
+    return dict(zip(Ks, solve_collisions(Ks).rows())) if Ks else {}
 
 
 def matched_restitution(engine: str, match_K: float) -> float:
@@ -166,10 +184,12 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
         raise ValueError(f"unknown contact law(s) {sorted(unknown)}; known: {LAWS}")
     plan = Plan()
     allowed = {}  # geometry -> the velocities that are run
+    velocities = {pair.geometry: _velocities(case, pair, K_grid) for pair in case.pairs}
+    solved = _solved_in_one_batch(case, velocities)
     for pair in case.pairs:
         allowed[pair.geometry] = []
-        for v, where, what, K_target in _velocities(case, pair, K_grid):
-            scales, probe = _checked(case, pair, v, where, what, K_target, time_step_factor)
+        for v, where, what, K_target in velocities[pair.geometry]:
+            scales, probe = _checked(case, pair, v, where, what, K_target, time_step_factor, solved)
             ratio = scales["delta_e"] / pair.R
             skip = {"case": case.name, "geometry": pair.geometry, "K": scales["K"], "V": v, "delta_e/R*": ratio}
             if ratio > max_overlap_ratio:

@@ -1,5 +1,5 @@
 # The engine builds of the study (config `builds:`): loaded, and every executable asked for its
-# version, before any job starts. A missing executable, one that is another engine, or one that
+# version (in threads, while workflow/rules/cases.smk plans the cases), before any job starts. A missing executable, one that is another engine, or one that
 # cannot say its version stops the workflow here, naming the build and what to do.
 
 from concurrent.futures import ThreadPoolExecutor
@@ -7,23 +7,30 @@ from concurrent.futures import ThreadPoolExecutor
 from engines.builds import BuildError, check_build, load_builds
 
 
-def checked_builds(entries, project_dir):
-    """{id: Build} of config `builds:`, each executable checked (in parallel: ~0.4 s each)."""
+def start_build_checks(entries, project_dir):
+    """({id: Build} of config `builds:`, the running checks of their executables): every check
+    in a thread of its own (each waits ~0.4-1.5 s on its engine), while the cases are planned."""
     builds = load_builds(entries, project_dir)
-    with ThreadPoolExecutor(max_workers=len(builds)) as pool:
-        futures = {b.id: pool.submit(check_build, b) for b in builds}
+    pool = ThreadPoolExecutor(max_workers=len(builds))
+    futures = {b.id: pool.submit(check_build, b) for b in builds}
+    pool.shutdown(wait=False)
+    return {b.id: b for b in builds}, futures
+
+
+def finish_build_checks(builds, futures):
+    """Wait for the checks of `start_build_checks`; BuildError naming every build that failed."""
     errors = []
     for b in builds:
         try:
-            futures[b.id].result()
+            futures[b].result()
         except BuildError as err:
             errors.append(str(err))
     if errors:
         raise BuildError("config 'builds':\n  " + "\n  ".join(errors))
-    return {b.id: b for b in builds}
 
 
-BUILDS = checked_builds(config["builds"], workflow.basedir)
+# Checked at the end of workflow/rules/cases.smk, once the cases are planned.
+BUILDS, _BUILD_CHECKS = start_build_checks(config["builds"], workflow.basedir)
 BUILD_IDS = list(BUILDS)
 LAMMPS_BUILDS = [b for b, build in BUILDS.items() if build.code == "lammps"]
 

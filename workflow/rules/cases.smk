@@ -40,3 +40,8 @@ for _stem, _path in CASES.items():
     if _case_name in _names:
         raise ValueError(f"{_path}: field 'name': {_case_name!r} is already the name of {_names[_case_name]}")
     _names[_case_name] = _path
+
+
+# Every build's executable answered for its version meanwhile (workflow/rules/builds.smk): a
+# missing one, another engine or one that cannot say its version stops the workflow here.
+finish_build_checks(BUILDS, _BUILD_CHECKS)

@@ -30,7 +30,7 @@ rule run_engine:
     log: "logs/{case}/{build}.log"
     benchmark: "benchmarks/{case}/{build}.tsv"
     params: settings=SETTINGS, build=lambda w: build_params(w.build)
-    threads: 1
+    threads: lambda w: CODES[BUILDS[w.build].code].processes  # ESyS: two MPI ranks
     priority: engine_priority
     resources: runtime=30, mem_mb=2000
     script: "../scripts/run_engine.py"
