@@ -56,7 +56,10 @@ def units():
     the registry then builds in 0.03 s instead of 0.3 s, at every start of the workflow."""
     import pint
 
-    return pint.UnitRegistry(cache_folder=":auto:")
+    try:
+        return pint.UnitRegistry(cache_folder=":auto:")
+    except OSError:  # no writable cache folder (e.g. a read-only home): parse the definitions
+        return pint.UnitRegistry()
 SCHEMA_PATH = Path(__file__).with_name("case_file.schema.yaml")
 
 # field -> (pint dimensionality, SI unit)
