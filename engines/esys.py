@@ -16,18 +16,17 @@ Laws: ``viscoelastic_clipped`` and ``elastic`` (HertzianViscoElasticPrms, A = 0 
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
-import re
 from pathlib import Path
 
 from contact_model.engine_parameters import esys_plane_as_sphere
 
 from .codes import law_unavailable
-from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, describe_exit, log_tail, run_logged, stop_message, time_limit
-from .errors import EngineRunFailed, require_executable
-from .finish_run import Sweep, load_record, write_run_dump
+from .driven_sweep import collect_sweep, file_hash
+from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
+from .errors import require_executable
+from .finish_run import Sweep
 from .run_spec import RunSpec
 
 EXECUTABLE = "esysparticle"
@@ -39,7 +38,7 @@ WALL_MASS_RATIO = 1e20
 
 
 def driver_hash() -> str:
-    return hashlib.sha256(DRIVER.read_bytes()).hexdigest()
+    return file_hash(DRIVER)
 
 
 def mpirun_command(mpirun: str, executable: str, script: Path, *args: str) -> list[str]:
@@ -117,54 +116,13 @@ def run_esys(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     job_path = workdir / "esys-job.json"
     job_path.write_text(json.dumps(job, indent=1))
     cmd = mpirun_command(mpi, exe, DRIVER, str(job_path))
-    sweep = Sweep()
     limit = time_limit("esys", specs, timeout_floor_s)
     # Open MPI's ranks spin while they wait for each other: yielding lets the other engine job
     # of a two-core study use the core (steel sweep alone: 3.6 -> 2.9 CPU s, 2.2 -> 1.8 s wall).
     done = run_logged(cmd, log, limit, cwd=workdir, env={"PYTHONUNBUFFERED": "1", "OMPI_MCA_mpi_yield_when_idle": "1"})
-    sweep.engine_seconds = done.seconds
-    printed = log.read_text(errors="replace") if log.exists() else ""
-    status = json.loads(status_path.read_text()) if status_path.exists() else None
-    stop = None
-    if done.timed_out:
-        stop = f"did not finish within its time limit of {limit:.3g} s and was killed"
-    elif done.returncode != 0 or status is None:
-        stop = f"exited with {describe_exit(done.returncode)}" + ("" if status else " before writing its status")
-    build = re.search(r"^ESyS-Particle .*$", printed, flags=re.M)
-    build = build.group(0).strip() if build else None
-    version = status["engine_version"] if status else build or "ESyS-Particle (version not printed)"
     # The run in progress: from the deck's progress file, not the log, where mpirun forwards
     # the ranks' stdout and stderr in chunks that can splice a crash's backtrace into a line.
-    progress = progress_path.read_text(errors="replace") if progress_path.exists() else ""
-    started = re.findall(r"^RUN (\S+)$", progress, flags=re.M)
-    stopped_in = (started[-1] if started else specs[0].name) if stop else None
-    reached_stop = False
-    for spec, entry in zip(specs, job["runs"]):
-        if spec.name == stopped_in:
-            reached_stop = True
-            problem = stop_message("esys", f"{build or 'no version line printed'}; {exe}", spec.case, spec.name,
-                                   stop, log)
-            sweep.failures[spec.name] = EngineRunFailed(spec.name, problem, log, engine="esys", case=spec.case,
-                                                        log_tail=log_tail(log))
-            continue
-        if reached_stop:
-            sweep.failures[spec.name] = EngineRunFailed(spec.name, f"not run: esys stopped in {stopped_in}", log)
-            continue
-        if status is not None:
-            st = status["runs"].get(spec.name, {"ok": False, "error": "no status reported"})
-        else:  # ESyS stopped later: this run finished, and wrote its record unless it failed
-            failed = re.search(rf"^RUN FAILED {re.escape(spec.name)}: (.*)$", progress, flags=re.M)
-            st = {"ok": False, "error": failed.group(1)} if failed else {"ok": True}
-        sweep.finish(spec, lambda: _esys_dump(spec, entry, st, raws[spec.name], workdir, log, version))
-    return sweep
+    return collect_sweep("esys", "ESyS-Particle", exe, specs, job["runs"], raws, workdir, log, done, limit,
+                         status_path, DRIVER,
+                         progress=progress_path.read_text(errors="replace") if progress_path.exists() else "")
 
-
-def _esys_dump(spec, entry, st, raw, workdir, log, version) -> Path:
-    if not st["ok"]:
-        raise EngineRunFailed(spec.name, f"esys: {st['error']}", log)
-    data = load_record(spec, raw, log)
-    meta = {"engine": "esys", "engine_version": version, "deck": DRIVER.name,
-            "deck_sha256": driver_hash(), "engine_variables": {k: v for k, v in entry.items() if k != "out"}}
-    dump = write_run_dump(spec, data, workdir / f"{spec.name}.csv", log, meta)
-    raw.unlink()
-    return dump

@@ -37,14 +37,13 @@ records the full-step rate d(delta)/dt (t_n) = r(t_n + dt/2) + F_n dt / (2 M*) [
 
 from __future__ import annotations
 
-import hashlib
 import json
-import re
 from pathlib import Path
 
-from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, describe_exit, log_tail, run_logged, stop_message, time_limit
-from .errors import EngineRunFailed, require_executable
-from .finish_run import Sweep, load_record, write_run_dump
+from .driven_sweep import collect_sweep, file_hash
+from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
+from .errors import require_executable
+from .finish_run import Sweep
 from .run_spec import RunSpec
 
 #: The Kratos venv's interpreter (relative to the project; `make kratos-10.4`).
@@ -55,7 +54,7 @@ ENVIRONMENT = {"OMP_NUM_THREADS": "1", "PYTHONUNBUFFERED": "1"}
 
 
 def driver_hash() -> str:
-    return hashlib.sha256(DRIVER.read_bytes()).hexdigest()
+    return file_hash(DRIVER)
 
 
 def job_entry(spec: RunSpec, out: Path) -> dict:
@@ -99,49 +98,8 @@ def run_kratos(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     job_path = workdir / "kratos-job.json"
     job_path.write_text(json.dumps(job, indent=1))
     cmd = [exe, str(DRIVER), str(job_path)]
-    sweep = Sweep()
     limit = time_limit("kratos", specs, timeout_floor_s)
     done = run_logged(cmd, log, limit, cwd=workdir, env=ENVIRONMENT)
-    sweep.engine_seconds = done.seconds
-    printed = log.read_text(errors="replace") if log.exists() else ""
-    status = json.loads(status_path.read_text()) if status_path.exists() else None
-    stop = None
-    if done.timed_out:
-        stop = f"did not finish within its time limit of {limit:.3g} s and was killed"
-    elif done.returncode != 0 or status is None:
-        stop = f"exited with {describe_exit(done.returncode)}" + ("" if status else " before writing its status")
-    build = re.search(r"^KratosMultiphysics .*$", printed, flags=re.M)
-    build = build.group(0).strip() if build else None
-    version = status["engine_version"] if status else build or "KratosMultiphysics (version not printed)"
-    started = re.findall(r"^RUN (\S+)$", printed, flags=re.M)
-    stopped_in = (started[-1] if started else specs[0].name) if stop else None
-    reached_stop = False
-    for spec, entry in zip(specs, job["runs"]):
-        if spec.name == stopped_in:
-            reached_stop = True
-            problem = stop_message("kratos", f"{build or 'no version line printed'}; {exe}", spec.case, spec.name,
-                                   stop, log)
-            sweep.failures[spec.name] = EngineRunFailed(spec.name, problem, log, engine="kratos", case=spec.case,
-                                                        log_tail=log_tail(log))
-            continue
-        if reached_stop:
-            sweep.failures[spec.name] = EngineRunFailed(spec.name, f"not run: kratos stopped in {stopped_in}", log)
-            continue
-        if status is not None:
-            st = status["runs"].get(spec.name, {"ok": False, "error": "no status reported"})
-        else:  # Kratos stopped later: this run finished, and wrote its record unless it failed
-            failed = re.search(rf"^RUN FAILED {re.escape(spec.name)}: (.*)$", printed, flags=re.M)
-            st = {"ok": False, "error": failed.group(1)} if failed else {"ok": True}
-        sweep.finish(spec, lambda: _kratos_dump(spec, entry, st, raws[spec.name], workdir, log, version))
-    return sweep
+    return collect_sweep("kratos", "KratosMultiphysics", exe, specs, job["runs"], raws, workdir, log, done, limit,
+                         status_path, DRIVER)
 
-
-def _kratos_dump(spec, entry, st, raw, workdir, log, version) -> Path:
-    if not st["ok"]:
-        raise EngineRunFailed(spec.name, f"kratos: {st['error']}", log)
-    data = load_record(spec, raw, log)
-    meta = {"engine": "kratos", "engine_version": version, "deck": DRIVER.name,
-            "deck_sha256": driver_hash(), "engine_variables": {k: v for k, v in entry.items() if k != "out"}}
-    dump = write_run_dump(spec, data, workdir / f"{spec.name}.csv", log, meta)
-    raw.unlink()
-    return dump
