@@ -146,60 +146,40 @@ def test_crashed_script_engine_names_the_signal_and_leaves_no_dump(tmp_path, eng
     assert_group_gone(tmp_path / "wrapper.pid")
 
 
-def yade_wrapper(tmp_path: Path) -> str:
-    """Writes its pid, leaves a sleeping child behind, and runs the real YADE."""
-    return executable(tmp_path / "yade-wrapper.sh", f"""#!/bin/bash
-echo $$ > {tmp_path / 'wrapper.pid'}
-sleep 1000 &
-echo "wrapper: starting the real engine"
-"{shutil.which('yade')}" "$@"
-""")
-
-
-def yade_driver_stopping_in(tmp_path: Path, run: str, how: str) -> Path:
-    """The study's YADE driver, made to hang or to crash (SIGSEGV) when `run` starts."""
+def driver_stopping_in(module, tmp_path: Path, run: str, how: str) -> Path:
+    """The study's driver script of a Python-driven engine `module` (yade, esys, kratos), made to
+    hang or to crash (SIGSEGV of its process) when `run` starts."""
     stop = "time.sleep(1000)" if how == "hang" else "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)"
-    text = yade.DRIVER.read_text()
+    text = module.DRIVER.read_text()
     anchor = '    print("RUN %s" % run["name"], flush=True)\n'
     assert anchor in text
     driver = tmp_path / "collisions.py"
     driver.write_text(text.replace(anchor, anchor + f'    if run["name"] == {run!r}:\n        {stop}\n'))
     return driver
+
+
+def driven_wrapper(tmp_path: Path, real: str) -> str:
+    """Writes its pid, leaves a sleeping child behind, and runs the real engine `real`."""
+    return executable(tmp_path / "wrapper.sh", f"""#!/bin/bash
+echo $$ > {tmp_path / 'wrapper.pid'}
+sleep 1000 &
+echo "wrapper: starting the real engine"
+"{real}" "$@"
+""")
 
 
 @pytest.mark.parametrize("how", ["hang", "crash"])
 def test_hung_or_crashed_yade(tmp_path, monkeypatch, how, no_expected_cost):
     require_engine("yade", "yade")
     specs = three_runs("yade")
-    monkeypatch.setattr(yade, "DRIVER", yade_driver_stopping_in(tmp_path, specs[1].name, how))
+    monkeypatch.setattr(yade, "DRIVER", driver_stopping_in(yade, tmp_path, specs[1].name, how))
     floor = 10.0  # YADE takes ~1.5 s to start
     started = time.monotonic()
-    sweep = yade.run_yade(specs, tmp_path / "out", executable=yade_wrapper(tmp_path), timeout_floor_s=floor)
+    sweep = yade.run_yade(specs, tmp_path / "out", executable=driven_wrapper(tmp_path, shutil.which("yade")), timeout_floor_s=floor)
     assert time.monotonic() - started < floor + 30
     what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV"
     assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "yade", "YADE 2023.02a", what, f"RUN {specs[1].name}")
     assert_group_gone(tmp_path / "wrapper.pid")
-
-
-def kratos_wrapper(tmp_path: Path) -> str:
-    """Writes its pid, leaves a sleeping child behind, and runs the Kratos venv's Python."""
-    return executable(tmp_path / "kratos-wrapper.sh", f"""#!/bin/bash
-echo $$ > {tmp_path / 'wrapper.pid'}
-sleep 1000 &
-echo "wrapper: starting the real engine"
-"{kratos.EXECUTABLE}" "$@"
-""")
-
-
-def kratos_driver_stopping_in(tmp_path: Path, run: str, how: str) -> Path:
-    """The study's Kratos driver, made to hang or to crash (SIGSEGV) when `run` starts."""
-    stop = "time.sleep(1000)" if how == "hang" else "import signal; os.kill(os.getpid(), signal.SIGSEGV)"
-    text = kratos.DRIVER.read_text()
-    anchor = '    print("RUN %s" % run["name"], flush=True)\n'
-    assert anchor in text
-    driver = tmp_path / "collisions.py"
-    driver.write_text(text.replace(anchor, anchor + f'    if run["name"] == {run!r}:\n        {stop}\n'))
-    return driver
 
 
 @pytest.mark.parametrize("how", ["hang", "crash"])
@@ -208,10 +188,10 @@ def test_hung_or_crashed_kratos(tmp_path, monkeypatch, how, no_expected_cost):
         pytest.skip("Kratos is not installed; install it with: make kratos-10.4 (make test does this)")
     specs = [RunSpec(CASE, "kratos", "elastic", steel_pair(g), v, time_step_factor=200)  # Kratos has no viscoelastic law
              for g, v in (("sphere-plane", VELOCITY), ("sphere-sphere", VELOCITY), ("sphere-plane", 2 * VELOCITY))]
-    monkeypatch.setattr(kratos, "DRIVER", kratos_driver_stopping_in(tmp_path, specs[1].name, how))
+    monkeypatch.setattr(kratos, "DRIVER", driver_stopping_in(kratos, tmp_path, specs[1].name, how))
     floor = 10.0  # Kratos takes ~1 s to import
     started = time.monotonic()
-    sweep = kratos.run_kratos(specs, tmp_path / "out", executable=kratos_wrapper(tmp_path), timeout_floor_s=floor)
+    sweep = kratos.run_kratos(specs, tmp_path / "out", executable=driven_wrapper(tmp_path, kratos.EXECUTABLE), timeout_floor_s=floor)
     assert time.monotonic() - started < floor + 30
     what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV"
     assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "kratos", "KratosMultiphysics 10.4.", what,
@@ -247,17 +227,6 @@ fi
 """)
 
 
-def esys_driver_stopping_in(tmp_path: Path, run: str, how: str) -> Path:
-    """The study's ESyS deck, made to hang or to crash (SIGSEGV of the master) when `run` starts."""
-    stop = "time.sleep(1000)" if how == "hang" else "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)"
-    text = esys.DRIVER.read_text()
-    anchor = '    print("RUN %s" % run["name"], flush=True)\n'
-    assert anchor in text
-    driver = tmp_path / "collisions.py"
-    driver.write_text(text.replace(anchor, anchor + f'    if run["name"] == {run!r}:\n        {stop}\n'))
-    return driver
-
-
 @pytest.mark.parametrize("how", ["hang", "crash"])
 def test_hung_or_crashed_esys(tmp_path, monkeypatch, how, no_expected_cost):
     """mpirun puts each rank in a process group of its own: killing mpirun's group must still
@@ -265,7 +234,7 @@ def test_hung_or_crashed_esys(tmp_path, monkeypatch, how, no_expected_cost):
     require_engine("esysparticle", "esys-particle")
     specs = [RunSpec(CASE, "esys", "viscoelastic_clipped", s.pair, VELOCITY, time_step_factor=200)
              for s in three_runs("liggghts")]
-    monkeypatch.setattr(esys, "DRIVER", esys_driver_stopping_in(tmp_path, specs[1].name, how))
+    monkeypatch.setattr(esys, "DRIVER", driver_stopping_in(esys, tmp_path, specs[1].name, how))
     floor = 10.0  # ESyS takes ~1 s to start
     started = time.monotonic()
     sweep = esys.run_esys(specs, tmp_path / "out", executable=esys_wrapper(tmp_path), timeout_floor_s=floor)
