@@ -16,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import json
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 from .engine_process import Finished, describe_exit, log_tail, stop_message
@@ -27,8 +28,45 @@ def file_hash(path: Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def collect_sweep(engine: str, banner: str, exe: str, specs, entries, raws: dict, workdir: Path, log: Path,
-                  done: Finished, limit: float, status_path: Path, driver: Path, progress: str | None = None) -> Sweep:
+@dataclass(frozen=True)
+class SweepFiles:
+    """The files of one driven sweep in its folder: the engine's log, the job file the driver
+    reads, the status file it writes at the end, and each run's raw record (by run name)."""
+
+    workdir: Path
+    log: Path
+    job: Path
+    status: Path
+    raws: dict
+    entries: list
+
+
+def prepare_sweep(engine: str, specs, workdir, job_entry, **more_files: Path) -> SweepFiles:
+    """Check the runs (all of `engine`, names unique), clear what an earlier sweep left in
+    `workdir` (dumps, raw records, status and `more_files`), and write the job file:
+    {runs: [job_entry(spec, raw record path)], status: path, **more_files}."""
+    if any(s.engine != engine for s in specs):
+        raise ValueError(f"run_{engine} got runs for another engine")
+    if len({s.name for s in specs}) != len(specs):
+        raise ValueError(f"run_{engine} got two runs with the same name")
+    workdir = Path(workdir).resolve()
+    workdir.mkdir(parents=True, exist_ok=True)
+    status = workdir / f"{engine}-status.json"
+    for path in (status, *more_files.values()):
+        Path(path).unlink(missing_ok=True)
+    raws = {s.name: workdir / f"{s.name}.{engine}.csv" for s in specs}
+    for s in specs:
+        (workdir / f"{s.name}.csv").unlink(missing_ok=True)
+        raws[s.name].unlink(missing_ok=True)
+    entries = [job_entry(s, raws[s.name]) for s in specs]
+    job = workdir / f"{engine}-job.json"
+    job.write_text(json.dumps({"runs": entries, "status": str(status),
+                               **{k: str(v) for k, v in more_files.items()}}, indent=1))
+    return SweepFiles(workdir, workdir / f"{engine}.log", job, status, raws, entries)
+
+
+def collect_sweep(engine: str, banner: str, exe: str, specs, files: SweepFiles, done: Finished, limit: float,
+                  driver: Path, progress: str | None = None) -> Sweep:
     """The `Sweep` of one driven engine process.
 
     Parameters
@@ -37,16 +75,16 @@ def collect_sweep(engine: str, banner: str, exe: str, specs, entries, raws: dict
         The code's name (in messages and dump headers).
     banner : str
         How the engine's version line starts in its log (e.g. 'YADE').
-    exe, specs, entries, raws
-        The executable, the runs, their job-file entries and their raw record paths.
-    workdir, log, done, limit, status_path
-        The sweep's folder and log, how its process ended (`run_logged`), its time limit [s]
-        and its status file.
+    exe, specs, files
+        The executable, the runs and their files (`prepare_sweep`).
+    done, limit
+        How the process ended (`run_logged`) and its time limit [s].
     driver : Path
         The driver script (its name and sha256 go into every dump header).
     progress : str, optional
         Where the driver printed 'RUN <name>' / 'RUN FAILED <name>: <error>' lines; default the log.
     """
+    workdir, log, status_path, raws, entries = files.workdir, files.log, files.status, files.raws, files.entries
     sweep = Sweep(engine_seconds=done.seconds)
     printed = log.read_text(errors="replace") if log.exists() else ""
     progress = printed if progress is None else progress

@@ -16,14 +16,13 @@ Laws: ``viscoelastic_clipped`` and ``elastic`` (HertzianViscoElasticPrms, A = 0 
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
 from contact_model.engine_parameters import esys_plane_as_sphere
 
 from .codes import law_unavailable
-from .driven_sweep import collect_sweep, file_hash
+from .driven_sweep import collect_sweep, file_hash, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import require_executable
 from .finish_run import Sweep
@@ -90,39 +89,22 @@ def run_esys(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     in progress fails with ESyS's last log lines, the runs after it are not run, and the runs
     before it land if their records are complete.
     """
-    if any(s.engine != "esys" for s in specs):
-        raise ValueError("run_esys got runs for another engine")
-    if len({s.name for s in specs}) != len(specs):
-        raise ValueError("run_esys got two runs with the same name")
     for s in specs:
         if law_unavailable("esys", s.law):
             raise ValueError(f"run_esys got a run of law {s.law!r} ({s.name}), which ESyS cannot express: "
                              f"{law_unavailable('esys', s.law)}")
     exe = require_executable("esys", executable)
     mpi = require_executable("esys", mpirun)
-    workdir = Path(workdir).resolve()
-    workdir.mkdir(parents=True, exist_ok=True)
-    log = workdir / "esys.log"
-    status_path = workdir / "esys-status.json"
-    progress_path = workdir / "esys-progress.txt"
-    for path in (status_path, progress_path):
-        path.unlink(missing_ok=True)
-    raws = {s.name: workdir / f"{s.name}.esys.csv" for s in specs}
-    for s in specs:
-        (workdir / f"{s.name}.csv").unlink(missing_ok=True)
-        raws[s.name].unlink(missing_ok=True)
-    job = {"runs": [job_entry(s, raws[s.name]) for s in specs], "status": str(status_path),
-           "progress": str(progress_path)}
-    job_path = workdir / "esys-job.json"
-    job_path.write_text(json.dumps(job, indent=1))
-    cmd = mpirun_command(mpi, exe, DRIVER, str(job_path))
+    progress_path = Path(workdir).resolve() / "esys-progress.txt"
+    files = prepare_sweep("esys", specs, workdir, job_entry, progress=progress_path)
+    cmd = mpirun_command(mpi, exe, DRIVER, str(files.job))
     limit = time_limit("esys", specs, timeout_floor_s)
     # Open MPI's ranks spin while they wait for each other: yielding lets the other engine job
     # of a two-core study use the core (steel sweep alone: 3.6 -> 2.9 CPU s, 2.2 -> 1.8 s wall).
-    done = run_logged(cmd, log, limit, cwd=workdir, env={"PYTHONUNBUFFERED": "1", "OMPI_MCA_mpi_yield_when_idle": "1"})
+    done = run_logged(cmd, files.log, limit, cwd=files.workdir,
+                      env={"PYTHONUNBUFFERED": "1", "OMPI_MCA_mpi_yield_when_idle": "1"})
     # The run in progress: from the deck's progress file, not the log, where mpirun forwards
     # the ranks' stdout and stderr in chunks that can splice a crash's backtrace into a line.
-    return collect_sweep("esys", "ESyS-Particle", exe, specs, job["runs"], raws, workdir, log, done, limit,
-                         status_path, DRIVER,
+    return collect_sweep("esys", "ESyS-Particle", exe, specs, files, done, limit, DRIVER,
                          progress=progress_path.read_text(errors="replace") if progress_path.exists() else "")
 

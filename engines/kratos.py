@@ -37,10 +37,10 @@ records the full-step rate d(delta)/dt (t_n) = r(t_n + dt/2) + F_n dt / (2 M*) [
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from .driven_sweep import collect_sweep, file_hash
+from .codes import law_unavailable
+from .driven_sweep import collect_sweep, file_hash, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import require_executable
 from .finish_run import Sweep
@@ -59,8 +59,8 @@ def driver_hash() -> str:
 
 def job_entry(spec: RunSpec, out: Path) -> dict:
     """The numbers of one run for the Kratos driver (SI)."""
-    if spec.law not in ("elastic", "default"):
-        raise ValueError(f"kratos cannot run law {spec.law!r}: see engines.codes")
+    if law_unavailable("kratos", spec.law):
+        raise ValueError(f"kratos cannot run law {spec.law!r}: {law_unavailable('kratos', spec.law)}")
     p = spec.pair
     params = p.engine_parameters("kratos")
     # 'elastic': restitution 1 -> DAMPING_GAMMA = 0. 'default': the restitution the user asks for
@@ -80,26 +80,10 @@ def run_kratos(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     in progress fails with the last log lines, the runs after it are not run, and the runs before
     it land if their records are complete.
     """
-    if any(s.engine != "kratos" for s in specs):
-        raise ValueError("run_kratos got runs for another engine")
-    if len({s.name for s in specs}) != len(specs):
-        raise ValueError("run_kratos got two runs with the same name")
     exe = require_executable("kratos", executable)
-    workdir = Path(workdir).resolve()
-    workdir.mkdir(parents=True, exist_ok=True)
-    log = workdir / "kratos.log"
-    status_path = workdir / "kratos-status.json"
-    status_path.unlink(missing_ok=True)
-    raws = {s.name: workdir / f"{s.name}.kratos.csv" for s in specs}
-    for s in specs:
-        (workdir / f"{s.name}.csv").unlink(missing_ok=True)
-        raws[s.name].unlink(missing_ok=True)
-    job = {"runs": [job_entry(s, raws[s.name]) for s in specs], "status": str(status_path)}
-    job_path = workdir / "kratos-job.json"
-    job_path.write_text(json.dumps(job, indent=1))
-    cmd = [exe, str(DRIVER), str(job_path)]
+    files = prepare_sweep("kratos", specs, workdir, job_entry)
+    cmd = [exe, str(DRIVER), str(files.job)]
     limit = time_limit("kratos", specs, timeout_floor_s)
-    done = run_logged(cmd, log, limit, cwd=workdir, env=ENVIRONMENT)
-    return collect_sweep("kratos", "KratosMultiphysics", exe, specs, job["runs"], raws, workdir, log, done, limit,
-                         status_path, DRIVER)
+    done = run_logged(cmd, files.log, limit, cwd=files.workdir, env=ENVIRONMENT)
+    return collect_sweep("kratos", "KratosMultiphysics", exe, specs, files, done, limit, DRIVER)
 

@@ -210,12 +210,14 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
         field_name = "impact.velocity" if case.velocities else "impact.K" if case.K else "impact"
         reasons = "; ".join(f"{s['geometry']} K = {s['K']:.3g}: {s['reason']}" for s in plan.skipped)
         raise PlanError(case.path, field_name, f"nothing to run: every velocity is left out ({reasons})")
-    # The reference solution of every K of the case, in one batch: the runs carry their row
+    # The reference solution of every K of the case, solved in one batch: the runs carry their row
     # (RunSpec.reference), and plan.json hands it on to the engine jobs and the summary.
+    # Every K run was solved for the probes above (`solved`); the elastic K = 0 joins them here.
     keys = [(pair.geometry, v) for pair in case.pairs for v in allowed[pair.geometry]]
-    Ks = [case.pair(g).dissipation_parameter(v) for g, v in keys]
-    solved = solve_collisions([*Ks, 0.0]).rows()
-    reference, elastic = dict(zip(keys, solved[:-1])), solved[-1]
+    Ks = {key: case.pair(key[0]).dissipation_parameter(key[1]) for key in keys}
+    missing = sorted({K for K in Ks.values() if K not in solved} | ({0.0} - set(solved)))
+    solved = {**solved, **dict(zip(missing, solve_collisions(missing).rows()))} if missing else solved
+    reference, elastic = {key: solved[K] for key, K in Ks.items()}, solved[0.0]
     builds = build_codes(engines)
     matched = ({code: matched_restitution(code, match_K) for code in set(builds.values())
                 if law_unavailable(code, "default") is None} if "default" in laws else {})

@@ -8,10 +8,9 @@ written into the job file here, from `contact_model`. YADE's output is its log, 
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from .driven_sweep import collect_sweep, file_hash
+from .driven_sweep import collect_sweep, file_hash, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import require_executable
 from .finish_run import Sweep
@@ -48,26 +47,10 @@ def run_yade(specs: list[RunSpec], workdir, executable: str = EXECUTABLE,
     fails with YADE's last log lines, the runs after it are not run, and the runs before it
     land if their records are complete.
     """
-    if any(s.engine != "yade" for s in specs):
-        raise ValueError("run_yade got runs for another engine")
-    if len({s.name for s in specs}) != len(specs):
-        raise ValueError("run_yade got two runs with the same name")
     exe = require_executable("yade", executable)
-    workdir = Path(workdir).resolve()
-    workdir.mkdir(parents=True, exist_ok=True)
-    log = workdir / "yade.log"
-    status_path = workdir / "yade-status.json"
-    status_path.unlink(missing_ok=True)
-    raws = {s.name: workdir / f"{s.name}.yade.csv" for s in specs}
-    for s in specs:
-        (workdir / f"{s.name}.csv").unlink(missing_ok=True)
-        raws[s.name].unlink(missing_ok=True)
-    job = {"runs": [job_entry(s, raws[s.name]) for s in specs], "status": str(status_path)}
-    job_path = workdir / "yade-job.json"
-    job_path.write_text(json.dumps(job, indent=1))
-    cmd = [exe, "-n", "-x", str(DRIVER), f"job={job_path}"]
+    files = prepare_sweep("yade", specs, workdir, job_entry)
+    cmd = [exe, "-n", "-x", str(DRIVER), f"job={files.job}"]
     limit = time_limit("yade", specs, timeout_floor_s)
-    done = run_logged(cmd, log, limit, cwd=workdir, env={"PYTHONUNBUFFERED": "1"})
-    return collect_sweep("yade", "YADE", exe, specs, job["runs"], raws, workdir, log, done, limit,
-                         status_path, DRIVER)
+    done = run_logged(cmd, files.log, limit, cwd=files.workdir, env={"PYTHONUNBUFFERED": "1"})
+    return collect_sweep("yade", "YADE", exe, specs, files, done, limit, DRIVER)
 
