@@ -72,7 +72,9 @@ def query_version(executable: str, code: str, timeout_s: float = VERSION_TIMEOUT
         done = run_logged(line_buffered([executable, *CODES[code].version_args]), out, timeout_s, cwd=scratch)
         text = out.read_text(errors="replace")
     if done.timed_out:
-        raise TimeoutError(f"did not exit within {timeout_s:g} s when asked for its version")
+        tail = "\n".join(f"    | {line}" for line in text.strip().splitlines()[-10:]) or "    | (nothing)"
+        raise TimeoutError(f"did not exit within {timeout_s:g} s when asked for its version and was killed; "
+                           f"it printed:\n{tail}")
     return text
 
 

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import hashlib
 import re
-import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -26,14 +25,13 @@ from typing import Callable
 
 import numpy as np
 
+from .builds import query_version
 from .engine_process import (DEFAULT_TIMEOUT_FLOOR_S, describe_exit, line_buffered, log_tail, run_logged,
                              stop_message, time_limit)
 from .errors import EngineRunFailed, require_executable
 from .finish_run import Sweep, load_record, write_run_dump
 from .run_spec import RunSpec
 
-#: Time limit of `version_line` [s]: the engine only starts and reads an empty input (~0.4 s).
-VERSION_TIMEOUT_S = 60.0
 
 
 def number(x: float) -> str:
@@ -58,19 +56,15 @@ def first_line_with(text: str, prefix: str) -> str | None:
 
 
 @lru_cache(maxsize=None)
-def version_line(executable: str, prefix: str, timeout_s: float = VERSION_TIMEOUT_S) -> str:
-    """The first line the engine prints that starts with `prefix` (its version). Run in a
-    scratch folder: LIGGGHTS opens its default log.liggghts before it reads `-log none`.
+def version_line(executable: str, code: str, prefix: str) -> str:
+    """The first line the engine prints that starts with `prefix` (its version), asked the way
+    `engines.builds.query_version` asks code `code`.
 
-    Raises RuntimeError if the engine has not exited within `timeout_s` (it is killed)."""
-    with tempfile.TemporaryDirectory() as scratch:
-        out = Path(scratch) / "version.txt"  # stdin: empty (/dev/null)
-        done = run_logged(line_buffered([executable, "-log", "none"]), out, timeout_s, cwd=scratch)
-        text = out.read_text(errors="replace")
-    if done.timed_out:
-        tail = "\n".join(f"    | {line}" for line in text.strip().splitlines()[-10:]) or "    | (nothing)"
-        raise RuntimeError(f"'{executable} -log none' (asked for its version, with empty input) did not exit "
-                           f"within {timeout_s:g} s and was killed; it printed:\n{tail}")
+    Raises RuntimeError if the engine has not exited within its time limit (it is killed)."""
+    try:
+        text = query_version(executable, code)
+    except TimeoutError as err:
+        raise RuntimeError(f"{executable} {err}") from err
     return first_line_with(text, prefix) or f"{prefix} (version line not found)"
 
 
@@ -159,7 +153,7 @@ class ScriptEngine:
         elif done.returncode != 0:
             stop = f"exited with {describe_exit(done.returncode)}: {last_error(log)}"
         stopped_in = self._run_in_progress(log, specs) if stop else None
-        version = build or version_line(exe, self.version_prefix)
+        version = build or version_line(exe, self.name, self.version_prefix)
         reached_stop = False
         for spec in specs:
             if spec.name == stopped_in:
