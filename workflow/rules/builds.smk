@@ -1,6 +1,7 @@
 # The engine builds of the study (config `builds:`): loaded, and every executable asked for its
-# version (in threads, while workflow/rules/cases.smk plans the cases), before any job starts. A missing executable, one that is another engine, or one that
-# cannot say its version stops the workflow here, naming the build and what to do.
+# version (in threads, while workflow/rules/cases.smk plans the cases), before any job starts. A
+# missing executable, one that is another engine, or one that cannot say its version stops the
+# workflow there, naming the build and what to do.
 
 from concurrent.futures import ThreadPoolExecutor
 
@@ -41,7 +42,6 @@ def calibration_build():
         raise BuildError(f"config 'calibration.engine': {config['calibration']['engine']!r} is not the id of a "
                          f"build; known: {', '.join(BUILD_IDS)}")
     return BUILDS[config["calibration"]["engine"]]
-
 
 
 def build_params(build_id):
