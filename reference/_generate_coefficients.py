@@ -43,8 +43,29 @@ u - u0 (phase u) or of (x, tau, D) in v - v0 (phase v), from the state y at the 
 '''
 
 
+def _age(term):
+    """The order of the newest coefficient in a term ("v2 * r7" -> 7): when it becomes known
+    (e0, e1, f1..f3, g0, g1 are fixed for the step)."""
+    return max((int(i) for i in re.findall(r"\b[vrsipbxQPB](\d+)\b", term)), default=-1)
+
+
+def _tree(terms):
+    if len(terms) == 1:
+        return terms[0]
+    mid = len(terms) // 2
+    return f"({_tree(terms[:mid])} + {_tree(terms[mid:])})"
+
+
 def _sum(terms):
-    return " + ".join(terms)
+    """The sum of `terms` as an addition tree: the terms known before the newest order in a
+    balanced tree (oldest first), then the newest ones added one by one. Without reassociation
+    (fastmath is "contract" only) the written order is the evaluation order, and a left-to-right
+    chain of n terms costs n multiply-add latencies on the path from one order to the next."""
+    terms = sorted(terms, key=_age)
+    newest = _age(terms[-1])
+    old = [t for t in terms if _age(t) < newest]
+    new = [t for t in terms if _age(t) == newest]
+    return " + ".join(([_tree(old)] if old else []) + new)
 
 
 def _terms(a, b, n, lo, hi):

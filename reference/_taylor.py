@@ -54,7 +54,7 @@ from . import _coefficients
 ORDER = _coefficients.ORDER  # degree of the Taylor polynomials (set in _generate_coefficients)
 # Written by _generate_coefficients with _coefficients.py: numba's cache of this module must be
 # invalidated when that file changes, and numba looks at this file's time stamp only.
-COEFFICIENTS_SHA256 = "7bbc0195d45ff3e121f739ee910c12e3505d94cf361a2ccf51995f0c6ce9394a"
+COEFFICIENTS_SHA256 = "d11ae95d131166e815d0b9a179cb4735ee0a9a39ad67c4bdbbb6edcc204a34c9"
 TOL = 1e-16  # first neglected term relative to the component's scale
 LOG2_TOL = math.log2(TOL)
 LN2 = math.log(2.0)
