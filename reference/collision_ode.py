@@ -6,8 +6,8 @@ The ODE (the paper's eq. 2, with x = delta/delta_e and tau = t V/delta_e)::
 
 is integrated to a relative accuracy of about 1e-12 for K in [0, 10].
 
-Why it is not integrated in tau from tau = 0
---------------------------------------------
+Why it is not integrated in tau from tau = 0 to the end
+-------------------------------------------------------
 x^{1/2} is not differentiable at x = 0, so x(tau) is a series in tau^{1/2} there and every
 fixed-order integrator in tau loses its order near both ends of the contact. With u = sqrt(x)
 as the independent variable (dx = 2u du) the same motion reads::
@@ -16,27 +16,32 @@ as the independent variable (dx = 2u du) the same motion reads::
     dtau/du = 2 u / v
     dD/du   = 4 K u^2 v                        (D: dissipated energy, fraction of (1/2) M* V^2)
 
-which is smooth wherever v != 0, i.e. everywhere but at the maximum compression. Around the
-maximum compression the velocity is the smooth variable instead: v decreases strictly as long
-as the contact force is positive (dv/dtau = -F), so with v as independent variable::
+which is smooth wherever v != 0, i.e. everywhere but at the maximum compression, where v(u) has
+a square-root branch point. Away from x = 0 the motion in tau is smooth, the maximum compression
+and the force zero included::
 
-    dx/dv = v / a,   dtau/dv = 1 / a,   dD/dv = 2 K x^{1/2} v^2 / a,   a = -x^{1/2} (K v + 5/4 x)
+    dx/dtau = v,   dv/dtau = -x^{1/2} (K v + 5/4 x),   dD/dtau = 2 K x^{1/2} v^2
 
-The collision is therefore split into four phases, each with a known span, so that the
-maximum compression and both ends are integration end points rather than located events:
+The collision is therefore split into four phases, none of which meets a singularity, so that
+the maximum compression and both ends are integration end points:
 
-    A  u = sqrt(x) from 0 to u_s            (approach; x_s is 0.7 times a lower bound of x_max)
-    B1 v from v(x_s) to 0                   (ends at the maximum compression)
-    B2 v from 0 to v_2 < 0                  (v_2 is chosen before the force vanishes)
-    C  u = sqrt(x) from sqrt(x(v_2)) to 0   (ends at x = 0: the x0 criterion)
+    A  u = sqrt(x) from 0 to u_s        (approach; x_s is 0.7 times a lower bound of x_max)
+    B1 tau from tau(x_s) to v = 0       (ends at the maximum compression, located on the last
+                                         step's polynomial)
+    B2 tau from tau_max to x <= x_c     (the first step end with x <= 0.7 x_max)
+    C  u = sqrt(x) from sqrt(x_c) to 0  (ends at x = 0: the x0 criterion)
+
+Phase C starts well away from the branch point at the maximum compression, where the steps in u
+are short (an earlier B2 in v, which has the force zero as a singularity, had to hand over next
+to it: 35 to 65 steps a K where this takes 19 to 42).
 
 Each phase is integrated with a compiled (numba) Taylor-series method of degree 22 (module
 `reference._taylor`): both phase systems are polynomials, square roots and quotients, whose
 Taylor coefficients follow from short recurrences (unrolled to straight-line code by
 `reference._generate_coefficients`), and the step is chosen from the decay of the last
 coefficients so that the first neglected term is ~1e-16 of the state. The step polynomials
-are the dense output: the force zero (F0 criterion) and the maximum force are found on them with
-Brent's method, and `collision_trajectory` samples them. K values are solved one after the other
+are the dense output: the maximum compression, the force zero (F0 criterion) and the maximum force
+are found on them with Brent's method, and `collision_trajectory` samples them. K values are solved one after the other
 in compiled code (no stacking), so a batch costs what its K cost one at a time. The first call in
 a fresh checkout compiles the kernel (several seconds) and caches it in reference/__pycache__;
 later processes load it from there. The DOP853 solver this replaced is kept as
@@ -123,10 +128,6 @@ def _raise_on_failure(status, K) -> None:
     kernel = _kernel()
     bad = status != kernel.OK
     if np.any(bad):
-        vanished = status == kernel.FORCE_VANISHED
-        if np.any(vanished):
-            raise FloatingPointError(
-                f"reference ODE: the force vanished before v2 for K = {K[vanished]}")
         raise FloatingPointError(f"reference ODE integration failed for K = {K[bad]}")
 
 
