@@ -23,7 +23,8 @@ from __future__ import annotations
 
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 from numpy.polynomial import chebyshev
@@ -66,13 +67,14 @@ def load_paper_series(path: Path = PAPER_SERIES_FILE) -> pd.DataFrame:
 
 
 @lru_cache(maxsize=None)
-def paper_series_terms(path: Path = PAPER_SERIES_FILE) -> dict[str, tuple[tuple[int, float], ...]]:
+def paper_series_terms(path: Path = PAPER_SERIES_FILE) -> Mapping[str, tuple[tuple[int, float], ...]]:
     """{quantity: ((order, coefficient), ...)} of a series file, in the file's row order, read
     once per process: the summaries and the closed-form fits evaluate the series thousands of
     times, and parsing the CSV each time was most of their run time (closed_forms: 3 500 reads,
-    ~8 s). Tuples, so that no caller can change what the next one gets."""
+    ~8 s). Read-only (a mapping proxy of tuples): no caller can change what the next one gets."""
     series = load_paper_series(path)
-    return {q: tuple(zip(rows.order, rows.coefficient)) for q, rows in series.groupby("quantity", sort=False)}
+    return MappingProxyType({q: tuple(zip(rows.order, rows.coefficient))
+                             for q, rows in series.groupby("quantity", sort=False)})
 
 
 def paper_series_value(quantity: str, K, series: pd.DataFrame | None = None) -> np.ndarray:

@@ -82,5 +82,7 @@ def test_paper_series_cache_gives_what_the_file_gives():
         rows = fresh[fresh.quantity == q]
         assert paper_series_terms()[q] == tuple(zip(rows.order, rows.coefficient))
     assert paper_series_terms() is paper_series_terms()  # read once
+    with pytest.raises(TypeError):
+        paper_series_terms()["eps"] = ((0, 0.0),)  # and read-only
     fresh.loc[fresh.quantity == "eps", "coefficient"] = 0.0  # a caller's own copy ...
     assert paper_series_value("eps", 0.1) == pytest.approx(1 - 0.10089 + 0.006107)  # ... changes nothing here
