@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize
 
 from contact_model import ContactPair
 from contact_model.case_file import Case
@@ -86,6 +86,8 @@ def constant_loss_test(velocity, restitution, sigma, fit: Fit) -> dict:
     J = res.jac
     s2 = S2 / dof if sigma is None else 1.0
     cov = s2 * np.linalg.pinv(J.T @ J)
+    from scipy import stats  # here: a ~1 s import that only this test needs (the DEM loop refits without it)
+
     return {"xi_0": float(res.x[1]), "xi_0_se": float(math.sqrt(cov[1, 1])), "k": float(res.x[0]),
             "rms_residual": float(np.sqrt(np.mean((res.fun / w) ** 2))), "F": float(F),
             "p_value": float(stats.f.sf(F, 1, dof))}
@@ -117,19 +119,28 @@ def _fit_summary(fit: Fit, pair: ContactPair, modulus_factors) -> dict:
     return out
 
 
+def case_fits(case: Case) -> dict[str, Fit]:
+    """The fits of `case`'s measurements by name: the exact model under 'x0' and 'F0', and the
+    paper's series ('series', on its falling branch). What `calibrate` summarises; alone, for
+    the plot of the DEM loop, which needs no summary."""
+    m = case.measurements
+    if m is None:
+        raise ValueError(f"{case.path}: the case has no measurements")
+    fits = {c: fit_restitution(m.velocity, m.restitution, m.uncertainty, criterion=c, source=m.path)
+            for c in CRITERIA}
+    fits["series"] = fit_restitution(m.velocity, m.restitution, m.uncertainty, criterion="x0", model=paper_series,
+                                     model_name="paper_series", K_max=falling_range(paper_series), source=m.path)
+    return fits
+
+
 def calibrate(case: Case, modulus_factors=(0.8, 1.25)) -> tuple[dict, dict[str, Fit]]:
     """Calibrate the viscosity of `case` on its measurements (see the module docstring).
 
     Returns (summary, fits): a JSON-ready summary and the `Fit`s by name ('x0', 'F0', 'series').
     Raises `CalibrationError` (a `CaseError`) when the data cannot be fitted."""
     m = case.measurements
-    if m is None:
-        raise ValueError(f"{case.path}: the case has no measurements")
     pair = case.pairs[0]
-    fits = {c: fit_restitution(m.velocity, m.restitution, m.uncertainty, criterion=c, source=m.path)
-            for c in CRITERIA}
-    fits["series"] = fit_restitution(m.velocity, m.restitution, m.uncertainty, criterion="x0", model=paper_series,
-                                     model_name="paper_series", K_max=falling_range(paper_series), source=m.path)
+    fits = case_fits(case)
     summary = {
         "case": case.name, "case_file": case.path, "measurements": m.path, "provenance": m.provenance,
         "geometry": pair.geometry, "E_Pa": pair.E, "R_m": pair.R, "M_kg": pair.M,

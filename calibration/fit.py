@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize, special
 from scipy.interpolate import CubicSpline
 
 from contact_model.measurement_file import MeasurementError
@@ -75,6 +75,19 @@ def tabulated_restitution(criterion: str, nodes: int = 4001) -> Callable[[np.nda
     K = np.linspace(0.0, K_MAX, nodes)
     spline = CubicSpline(K, exact_restitution(criterion)(K))
     return lambda k: spline(np.asarray(k, dtype=float))
+
+
+# The two quantiles of the interval, from scipy.special: what scipy.stats' t.ppf and chi2.ppf
+# compute, number for number (tests), without importing scipy.stats (~1 s, more than a fit).
+def student_t_quantile(p: float, dof: int) -> float:
+    """t_dof(p), the p-quantile of Student's t with `dof` degrees of freedom (scipy.stats.t.ppf)."""
+    return special.stdtrit(dof, p)
+
+
+def chi2_quantile(p: float, dof: int) -> float:
+    """chi2_dof(p) = 2 P^{-1}(dof/2, p), P the regularised lower incomplete gamma function
+    (scipy.stats.chi2.ppf)."""
+    return 2 * special.gammaincinv(dof / 2, p)
 
 
 def dissipation_parameters(velocity, k: float, V_ref: float) -> np.ndarray:
@@ -216,10 +229,10 @@ def fit_restitution(velocity, restitution, sigma=None, *, criterion: str = "x0",
     dof = n - 1
     if sigma is None:
         s2 = S_min / dof
-        threshold = s2 * stats.t.ppf(0.5 + level / 2, dof) ** 2
+        threshold = s2 * student_t_quantile(0.5 + level / 2, dof) ** 2
         used_sigma, chi2_red = np.full(n, math.sqrt(s2)), 1.0
     else:
-        threshold = stats.chi2.ppf(level, 1)
+        threshold = chi2_quantile(level, 1)
         used_sigma, chi2_red = np.asarray(sigma, dtype=float), S_min / dof
 
     def excess(kk):

@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 
 from reference import HERTZ_TAU, paper_series_value, solve_collisions
-from reference.series import load_paper_series
 
 from .collision_metrics import CollisionMetrics
 
@@ -36,11 +35,11 @@ def hertz_Q(T_e: float, A_e: float, V: float) -> dict[str, float]:
 def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None = None,
                     series=None) -> list[dict]:
     """The summary rows of one run. `meta` is its dump header; `reference_row` may be passed
-    to reuse a solution of the ODE at the run's K."""
+    to reuse a solution of the ODE at the run's K; `series` is a table as
+    `reference.series.load_paper_series` gives (default: the paper's, parsed once per process)."""
     K, V = meta["K"], meta["impact_velocity"]
     T_e, A_e, R = meta["T_e"], meta["A_e"], meta["effective_radius"]
     r = reference_row or solve_collisions([K]).row(0)
-    series = load_paper_series() if series is None else series
     Qe = hertz_Q(T_e, A_e, V)
     scale = {"T": T_e, "A": A_e, "eps": 1.0, **Qe}
     paper = {q: float(paper_series_value(_SERIES_NAME[q], K, series)) * scale[q] for q in QUANTITIES}

@@ -8,7 +8,6 @@ first root of max(phi_1, phi_2) = beta on the reference solution.
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .collision_ode import solve_collisions
 from .series import hertz_ratios
@@ -33,5 +32,7 @@ def critical_dissipation(beta: float, criterion: str = "x0", K_max: float = 10.0
     if len(above) == 0:
         raise ValueError(f"max(phi_1, phi_2) stays below {beta} for K <= {K_max}")
     i = above[0]
+    from scipy.optimize import brentq  # here: scipy.optimize is a 0.6 s import, and the figures read only the prefactor
+
     return brentq(lambda k: largest_deviation([k], criterion)[0] - beta, grid[i - 1], grid[i],
                   xtol=1e-14, rtol=1e-13)

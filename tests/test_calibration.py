@@ -129,6 +129,19 @@ def test_interval_matches_the_linearised_one_for_small_noise():
     assert fit.k - fit.k_low == pytest.approx(half, rel=2e-3)
 
 
+def test_interval_quantiles_are_scipy_stats_ones():
+    """The fit's t and chi^2 quantiles come from scipy.special (scipy.stats is a slow import):
+    they are scipy.stats' numbers exactly, at every level and number of rows a fit can have."""
+    from scipy import stats
+
+    from calibration.fit import chi2_quantile, student_t_quantile
+
+    for level in (0.5, 0.6827, 0.9, 0.95, 0.9545, 0.99, 0.999):
+        assert chi2_quantile(level, 1) == stats.chi2.ppf(level, 1)
+        for dof in (1, 2, 3, 5, 9, 19, 30, 100, 1000):
+            assert student_t_quantile(0.5 + level / 2, dof) == stats.t.ppf(0.5 + level / 2, dof)
+
+
 def test_data_the_model_cannot_fit_are_refused():
     V = np.array([1.0, 2.0, 4.0])
     with pytest.raises(CalibrationError, match=r"x.csv: all rows .*needs K > 10 .*no viscosity"):
@@ -223,3 +236,17 @@ def test_gugan_case_fit_and_finding():
     # eta moves as E*^{3/5} at fixed V_D
     for row in x0["modulus_sensitivity"]:
         assert row["eta_Pa_s"] / x0["eta_Pa_s"] == pytest.approx(row["factor"] ** 0.6, rel=1e-12)
+
+
+def test_case_fits_are_calibrates_fits():
+    """The DEM loop's plot refits with case_fits alone: the same fits as calibrate's, number for number."""
+    from calibration.case_calibration import case_fits
+
+    case = load_case(GUGAN)
+    _, fits = calibrate(case)
+    alone = case_fits(case)
+    assert list(alone) == list(fits) == ["x0", "F0", "series"]
+    for name, f in fits.items():
+        g = alone[name]
+        assert (g.model, g.criterion, g.k, g.k_low, g.k_high, g.chi2) == (f.model, f.criterion, f.k, f.k_low, f.k_high, f.chi2)
+        assert np.array_equal(g.eps_fit, f.eps_fit) and np.array_equal(g.residuals, f.residuals)

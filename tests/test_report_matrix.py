@@ -7,6 +7,7 @@ the values asserted are the ones put in, passed through the real pipeline.
 """
 
 import math
+import re
 from html.parser import HTMLParser
 
 import pandas as pd
@@ -242,6 +243,28 @@ def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
     assert [t for t in tables if t["class"] == "matrix default"]
     assert 'href="checks.csv"' in html and NA_REASON in html
     assert (tmp_path / "plots" / "errors.png").stat().st_size > 0
+
+
+def test_report_drawn_in_two_processes_is_the_same_report(study, tmp_path):
+    """workers=2 (the report rule's two threads) draws the plots in forked processes while the
+    text is written: the same report.md and report.html (but the minute it was generated), every
+    plot; a plot that fails still fails the report."""
+    from postprocess import report
+
+    table, checks, not_available = study
+    verdict = verdict_of(checks, "0" * 64, TOL)
+    texts = {}
+    for workers in (1, 2):
+        out = tmp_path / str(workers)
+        report.write_report(table, checks, verdict, out, builds=BUILDS, not_available=not_available, workers=workers)
+        texts[workers] = [re.sub(r"Generated [^`]*UTC", "", (out / name).read_text()) for name in ("report.md", "report.html")]
+        assert sorted(p.name for p in (out / "plots").iterdir()) == ["default_laws.png", "errors.png", "ratios_F0.png",
+                                                                     "ratios_x0.png"]
+    assert texts[1] == texts[2]
+    wait = report.start_drawing([(report.plot_errors, (table, TOL, tmp_path / "e.png", BUILDS)),
+                                 (report.plot_errors, (table, {}, tmp_path / "f.png", BUILDS))], workers=2)
+    with pytest.raises(KeyError):  # no tolerance for T: the second plot fails in its process
+        wait()
 
 
 def test_every_build_gets_its_own_marker_and_colour_in_config_order():

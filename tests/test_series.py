@@ -67,3 +67,22 @@ def test_paper_series_value():
     assert paper_series_value("eps", 0.1) == pytest.approx(1 - 0.10089 + 0.006107)
     with pytest.raises(KeyError):
         paper_series_value("nonsense", 0.1)
+
+
+def test_paper_series_cache_gives_what_the_file_gives():
+    """The cached coefficients (parsed once per process) evaluate to exactly what a freshly read
+    table gives, for every quantity, at a scalar and on an array; the table stays a fresh copy."""
+    from reference.series import paper_series_terms
+
+    fresh = load_paper_series()
+    K = np.linspace(0.0, 1.0, 101)
+    for q in set(fresh.quantity):
+        assert np.array_equal(paper_series_value(q, K), paper_series_value(q, K, fresh)), q
+        assert paper_series_value(q, 0.3) == paper_series_value(q, 0.3, fresh), q
+        rows = fresh[fresh.quantity == q]
+        assert paper_series_terms()[q] == tuple(zip(rows.order, rows.coefficient))
+    assert paper_series_terms() is paper_series_terms()  # read once
+    with pytest.raises(TypeError):
+        paper_series_terms()["eps"] = ((0, 0.0),)  # and read-only
+    fresh.loc[fresh.quantity == "eps", "coefficient"] = 0.0  # a caller's own copy ...
+    assert paper_series_value("eps", 0.1) == pytest.approx(1 - 0.10089 + 0.006107)  # ... changes nothing here

@@ -17,7 +17,6 @@ from reference import collision_trajectory, hertz_ratios, paper_series_value, so
 from reference.critical import PAPER_RULE_PREFACTOR  # noqa: E402
 
 from ..energy import energy_partition  # noqa: E402
-from .fracture import DEFINITIONS, MASS_FACTOR, fracture_velocity_ratios  # noqa: E402
 
 
 def figure_1(path, K_max: float = 1.0) -> None:
@@ -107,6 +106,9 @@ def figure_4(dumps: dict[float, tuple[dict, dict]], path) -> pd.DataFrame:
 
 def figure_5(path, P0_over_E: float, markers: dict[str, float] | None = None) -> pd.DataFrame:
     """V_F / V_P against R / L_d for the three pressure definitions and both geometries."""
+    # Imported here: scipy (its spline and root finder) is ~0.6 s that Figs. 1, 3 and 4 do not need.
+    from .fracture import DEFINITIONS, MASS_FACTOR, fracture_velocity_ratios
+
     lam = np.geomspace(1e-3, 1e8, 120)
     fig, ax = plt.subplots(figsize=(7, 5))
     curves = []

@@ -1,5 +1,20 @@
 # Time-step convergence of every engine build, and the LAMMPS regression cases of every LAMMPS build.
 
+from functools import lru_cache
+
+from engines.plan import plan_at_velocity
+
+
+@lru_cache(maxsize=None)
+def convergence_priority_of(code):
+    """1 + 10 x the expected seconds of `code`'s convergence sweep (engines.codes cost model), as
+    run_engine's priority: these are the study's longest engine jobs (ESyS's ~1 min expected),
+    and convergence_summary, which waits for the last of them, lands on the study's tail when
+    they start late."""
+    c = config["convergence"]
+    runs = plan_at_velocity(load_case(c["case"]), code, c["K"], c["time_step_factors"], c["velocity"], "convergence")
+    return 1 + int(10 * CODES[code].expected_seconds(len(runs), sum(r.steps() for r in runs)))
+
 
 rule convergence_runs:
     """Time-step convergence: one build, every K and time-step factor, in one engine process."""
@@ -13,6 +28,7 @@ rule convergence_runs:
     benchmark: "benchmarks/convergence/{build}.tsv"
     params: convergence=config["convergence"], timeout_floor_s=config["engine_timeout_floor_s"],
             build=lambda w: build_params(w.build)
+    priority: lambda w: convergence_priority_of(BUILDS[w.build].code)
     resources: runtime=30, mem_mb=2000
     script: "../scripts/convergence_runs.py"
 

@@ -38,6 +38,9 @@ rule report:
         verdict="results/verdict.json",
     log: "logs/report.log"
     params: tolerance=config["tolerance"], builds={b: build_params(b) for b in BUILD_IDS}
+    # Its plots are drawn in two processes (postprocess.report.start_drawing): it runs last, when
+    # every other job is done (only the gate and the build comparison wait for it).
+    threads: 2
     script: "../scripts/report.py"
 
 

@@ -5,7 +5,7 @@ import json
 import pandas as pd
 
 from common import start_rule
-from calibration.case_calibration import calibrate
+from calibration.case_calibration import case_fits
 from calibration.outputs import loop_table, plot_fit
 from contact_model import load_case
 from postprocess.run_manifest import manifest_dumps
@@ -16,6 +16,6 @@ with open(snakemake.input.fit) as fh:
     summary = json.load(fh)
 loop = loop_table(manifest_dumps(snakemake.input.manifest), summary, pd.read_csv(snakemake.input.residuals))
 loop.to_csv(snakemake.output.csv, index=False, float_format="%.10g")
-_, fits = calibrate(case)  # the Fit objects for the plot (a few ms)
+fits = case_fits(case)  # the Fit objects for the plot: the fits alone, not calibrate's whole summary
 plot_fit(case, fits, snakemake.output.png, loop)
 log.info("DEM - fit: largest |difference| %.3g\n%s", loop.dem_minus_fit.abs().max(), loop.to_string())

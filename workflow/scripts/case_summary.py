@@ -14,17 +14,15 @@ import pandas as pd
 from common import start_rule
 from postprocess.comparison import comparison_rows
 from postprocess.run_manifest import manifest_dumps
-from reference.series import load_paper_series
 
 log = start_rule(snakemake)
 results = Path(snakemake.output[0]).parent.parent
 loaded = [d for m in snakemake.input.manifests for d in manifest_dumps(m)]
 # The reference solution of every run was solved once, by the plan: no ODE is solved here.
 reference = {r["name"]: r["reference"] for r in json.load(open(snakemake.input.plan))["runs"]}
-series = load_paper_series()
 rows = []
 for path, meta, _, m in loaded:
-    for row in comparison_rows(meta, m, reference[Path(path).stem], series):
+    for row in comparison_rows(meta, m, reference[Path(path).stem]):  # the paper's series: parsed once
         rows.append({**row, "run": Path(path).stem, "dump": os.path.relpath(path, results)})
 # With no dump at all (every run failed) the table still has its columns: the gate then fails
 # every planned check by name instead of the summary rule failing on an empty file.
