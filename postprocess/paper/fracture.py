@@ -72,14 +72,14 @@ def fracture_velocity_ratios(R_over_Ld, P0_over_E: float, geometry: str = "spher
         log_y_max = 5 * math.log(10.0 / C)  # K_F = C y^{1/5} = 10
         log_y_min = 5 * math.log(1e-5 / C)
 
-        def excess(log_y):  # log of p/P0 = (V/V_P)^{2/5} p/P_e
-            return 0.4 * log_y + float(log_p(math.log(C) + 0.2 * log_y))
+        def excess(log_y):  # log of p/P0 = (V/V_P)^{2/5} p/P_e, on a number or an array
+            return 0.4 * log_y + log_p(math.log(C) + 0.2 * log_y)
 
         grid = np.linspace(log_y_min, log_y_max, 400)
         # excess() on the whole grid in one spline call: the same operations point by point, so
         # the same numbers, without 400 scalar spline calls per R/L_d (they were ~3 s of Fig. 5).
-        values = 0.4 * grid + log_p(math.log(C) + 0.2 * grid)
+        values = excess(grid)
         crossing = np.nonzero((values[:-1] < 0) & (values[1:] >= 0))[0]
-        out.append(math.exp(brentq(excess, grid[crossing[0]], grid[crossing[0] + 1], xtol=1e-12))
-                   if len(crossing) else float("nan"))
+        out.append(math.exp(brentq(lambda g: float(excess(g)), grid[crossing[0]], grid[crossing[0] + 1],
+                                   xtol=1e-12)) if len(crossing) else float("nan"))
     return np.array(out)
