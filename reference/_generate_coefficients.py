@@ -45,8 +45,8 @@ u - u0 (phase u) or of (x, v, D) in tau - tau0 (phase t), from the state y at th
 
 def _age(term):
     """The order of the newest coefficient in a term ("v2 * r7" -> 7): when it becomes known
-    (e0, e1, f1..f3, g0, g1 are fixed for the step)."""
-    return max((int(i) for i in re.findall(r"\b[vrsipbxQPBFV](\d+)\b", term)), default=-1)
+    (e0, e1, f1..f3 are fixed for the step)."""
+    return max((int(i) for i in re.findall(r"\b[vrspxQFV](\d+)\b", term)), default=-1)
 
 
 def _tree(terms):
@@ -121,7 +121,7 @@ def generate_u(N):
         ur = [f"u0 * r{n}"] + ([f"r{n - 1}"] if n >= 1 else [])
         L.append(f"    t{n + 1} = {repr(2.0 / (n + 1))} * ({_sum(ur)})")
         L.append(f"    d{n + 1} = K4 * ({_sum(qv)}) * {inv}")
-    L += _store(N, "v0")
+    L += _store(N, ("v", "t", "d"), ("v0", "y[1]", "y[2]"))
     return L
 
 
@@ -174,16 +174,16 @@ def generate_t(N):
         L.append(f"    x{n + 1} = v{n} * {inv}")
         L.append(f"    v{n + 1} = F{n} * {repr(-1.0 / (n + 1))}")
         L.append(f"    d{n + 1} = K2 * ({_sum(G)}) * {inv}")
-    L += [f"    c[0, 0] = x0", "    c[1, 0] = v0", "    c[2, 0] = y[2]"]
-    for n in range(1, N + 1):
-        L += [f"    c[0, {n}] = x{n}", f"    c[1, {n}] = v{n}", f"    c[2, {n}] = d{n}"]
+    L += _store(N, ("x", "v", "d"), ("x0", "v0", "y[2]"))
     return L
 
 
-def _store(N, first):
-    L = [f"    c[0, 0] = {first}", "    c[1, 0] = y[1]", "    c[2, 0] = y[2]"]
+def _store(N, rows, zeroth):
+    """The lines that store the coefficients named rows[i] + n (orders 1..N; order 0: zeroth[i])
+    into c[i, n]."""
+    L = [f"    c[{i}, 0] = {z}" for i, z in enumerate(zeroth)]
     for n in range(1, N + 1):
-        L += [f"    c[0, {n}] = {'vx'[first == 'x0']}{n}", f"    c[1, {n}] = t{n}", f"    c[2, {n}] = d{n}"]
+        L += [f"    c[{i}, {n}] = {r}{n}" for i, r in enumerate(rows)]
     return L
 
 
