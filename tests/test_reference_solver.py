@@ -107,6 +107,20 @@ def test_rejects_K_outside_range():
         solve_collisions([np.nan])
 
 
+def test_a_failed_integration_is_an_error_naming_its_K_not_a_row_of_numbers():
+    """The kernel's failure path: a K whose coefficients are not finite (overflow; the public API
+    refuses such K before they get here) ends its integration with STEP_FAILURE, and the batch
+    raises naming that K, while the other K of the batch solve as usual."""
+    from reference import collision_ode
+
+    kernel = collision_ode._kernel()
+    table, status = kernel.solve_batch(np.array([0.1, 1e300]))
+    assert list(status) == [kernel.OK, kernel.STEP_FAILURE]
+    assert table[0, 6] == pytest.approx(0.904885783491945, rel=1e-13)  # eps_x0(0.1), README table
+    with pytest.raises(FloatingPointError, match=r"integration failed for K = \[1\.?e\+300\]"):
+        collision_ode._solve_batch(np.array([0.1, 1e300]))
+
+
 def test_batches_agree_with_single_solutions():
     Ks = np.linspace(0.01, 3, 300)
     batch = solve_collisions(Ks)
