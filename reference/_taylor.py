@@ -35,14 +35,21 @@ maximum compression (v = 0, the end of B1), the force zero and the force maximum
 with Brent's method, and the trajectory samples are evaluated on it.
 
 Cost. A K takes 19 (K <= 1) to 42 (K = 10) steps; at large K the contact ends in a slow creep
-(eps ~ 1e-4), where phase C's steps shrink towards u = 0. A step costs about 300 ns: the
-coefficients (straight-line code, fused multiply-adds, one or two multiply-adds per order on
-the chain from one order to the next), the step size and the evaluation at the step end, without
-allocation. Kept out on purpose: fastmath reassociation (results would depend on LLVM's
-vectorisation), a looser TOL (1e-15: ~9 % faster, ~6x further from mpmath), stacking K values
-in SIMD lanes (LLVM does not vectorise a lane loop around the unrolled recurrences; interleaved
-lanes compiled for a minute and ran slower), and Newton's method for the roots that are linear in
-the state (3 to 6 iterations against Brent's 6 to 9, but each costs two Horner chains: no faster).
+(eps ~ 1e-4), where phase C's steps shrink towards u = 0. solve_batch advances LANES = 8 K at
+once (`_lanes`, K sorted so that neighbours take similar steps): each tick computes the eight
+lanes' coefficients in one vectorised call (`_coefficients_u_lanes`, generated from the scalar
+recurrences: about 40 ns (u) and 70 ns (t) a lane against 190 and 360 ns scalar), then steps each
+lane on its own (step size, evaluation at the step end, root checks: about 200 ns). Every lane
+does exactly the scalar arithmetic, so a batch equals `solve_one` K by K to the bit. A lane that
+has finished idles until its group's slowest K is done. A group of at most LANES/2 K (a single K,
+a short last group) goes through the scalar path instead. The functions that only borrow arrays
+are compiled without numba's reference counting (`_jit`). Measured by `make bench`
+(benchmarks/reference_solver.py). Kept out on purpose: fastmath reassociation (results would
+depend on LLVM's vectorisation), a looser TOL (1e-15: ~9 % faster, ~6x further from mpmath),
+vectorising the step size and the evaluation over the lanes too (what it would save at most,
+the copy of each lane's coefficients into c, measured 6 %: not worth a second copy of the step
+logic), and Newton's method for the roots that are linear in the state (3 to 6 iterations
+against Brent's 6 to 9, but each costs two Horner chains: no faster).
 """
 
 from __future__ import annotations
@@ -60,7 +67,7 @@ from . import _coefficients
 ORDER = _coefficients.ORDER  # degree of the Taylor polynomials (set in _generate_coefficients)
 # Written by _generate_coefficients with _coefficients.py: numba's cache of this module must be
 # invalidated when that file changes, and numba looks at this file's time stamp only.
-COEFFICIENTS_SHA256 = "18baa76d2e9ca9fce9950e29c8266eab0f5b07e4d22230b97b938835d74a3a20"
+COEFFICIENTS_SHA256 = "a5107dc178c742561d8edca3fc8280dfb6157e2c95d5ae18a75b2c76fb5a7528"
 TOL = 1e-16  # first neglected term relative to the component's scale
 LOG2_TOL = math.log2(TOL)
 LN2 = math.log(2.0)
@@ -77,15 +84,24 @@ END_SPAN, END_X, END_V = 0, 1, 2  # how a phase ends: see _phase
 # status codes of _phases
 OK, STEP_FAILURE = 0, 1
 
-_jit = njit(cache=True, error_model="numpy", fastmath=False)
+# The functions that allocate (solve_batch, trajectory) keep numba's reference counting.
+_jit_alloc = njit(cache=True, error_model="numpy", fastmath=False)
+# The others only borrow arrays their caller owns, and return none: compiled without it
+# (_nrt=False), they skip the atomic increment and decrement of every array argument at every
+# call, a few ns each, which a step pays for c and y in four or five calls.
+_jit = njit(cache=True, error_model="numpy", fastmath=False, _nrt=False)
 # Fused multiply-add allowed (one rounding instead of two, no reordering): the recurrences and
 # Horner's scheme are chains of multiply-adds, whose latency is the cost of a step.
-_jit_fma = njit(cache=True, error_model="numpy", fastmath={"contract"})
+_jit_fma = njit(cache=True, error_model="numpy", fastmath={"contract"}, _nrt=False)
 
 
 # The coefficient recurrences, unrolled (reference/_generate_coefficients.py has the equations).
 _coefficients_u = _jit_fma(_coefficients.coefficients_u)
 _coefficients_t = _jit_fma(_coefficients.coefficients_t)
+_coefficients_u_lanes = _jit_fma(_coefficients.coefficients_u_lanes)
+_coefficients_t_lanes = _jit_fma(_coefficients.coefficients_t_lanes)
+LANES, B_W, B_Y, B_K, B_C, B_SIZE = (_coefficients.LANES, _coefficients.B_W, _coefficients.B_Y,
+                                     _coefficients.B_K, _coefficients.B_C, _coefficients.B_SIZE)
 
 
 if numba_config.DISABLE_JIT:  # NUMBA_DISABLE_JIT=1 (debugging): intrinsics cannot run as Python
@@ -168,9 +184,10 @@ def _step_size(c, s0, s1, s2):
 
 @_jit_fma
 def _horner(c, i, h):
-    N = c.shape[1] - 1
-    acc = c[i, N]
-    for n in range(N - 1, -1, -1):
+    """Row i of c at h. The degree is the constant ORDER (c is (3, ORDER+1)), not c.shape[1] - 1:
+    a loop of fixed length is unrolled, with constant offsets."""
+    acc = c[i, ORDER]
+    for n in range(ORDER - 1, -1, -1):
         acc = acc * h + c[i, n]
     return acc
 
@@ -179,8 +196,9 @@ def _horner(c, i, h):
 def _horner3(c, h, y):
     """All three components at h into y (the state at the step end). The latency of the Horner
     chain is part of a step's cost, so each polynomial is split into its even and odd parts,
-    p(h) = E(h^2) + h O(h^2), six independent Horner chains in h^2 of half the length."""
-    N = c.shape[1] - 1
+    p(h) = E(h^2) + h O(h^2), six independent Horner chains in h^2 of half the length. The degree
+    is the constant ORDER, as in _horner."""
+    N = ORDER
     h2 = h * h
     top = N - (N % 2)  # the highest even order
     e0, e1, e2 = c[0, top], c[1, top], c[2, top]
@@ -277,82 +295,130 @@ def _brent(kind, root, c, w0, h, K, ga, gb):
     return b
 
 
-@_jit
-def _phase(kind, start, stop, y, K, root, samples, out, c, end, level):
-    """Integrate one phase from w = start with initial state y (3,), in place, to its end:
-    w = stop (end = END_SPAN), the first step end with x <= level (END_X, phase t), or the first
-    zero of v (END_V, phase t: located on the step polynomial, where the phase ends with v = 0).
+# The state of a phase in progress, one float array p (P_SIZE,) per K: the phase variable w,
+# the step count, and the root search's result (found = 1.0 if the ROOT_* function has had its
+# first zero from above, with the state there) and its value at the last step end; and the
+# phase's set-up (start, stop, root, end, level: see _phase_setup).
+(P_W, P_STEPS, P_FOUND, P_XR, P_VR, P_TR, P_DR, P_G, P_SAMPLE,
+ P_START, P_STOP, P_ROOT, P_END, P_LEVEL, P_SIZE) = range(15)
 
-    Returns (status, w_end, found, xr, vr, taur, Dr): the first zero from above of the ROOT_*
-    function along the phase (found = 1.0 if there is one, bracketed on the step ends then refined
-    on the step polynomial), with the state there. At `samples` (increasing fractions s in [0, 1]
-    of the phase, w = start + s (stop - start); only with END_SPAN) the step polynomials are
-    evaluated into out (m, 4): x, v, tau, D.
-    """
+# What a K's phases have found so far, one float array m (M_SIZE,) per K (see _phase_record).
+(M_US, M_V1, M_TAU1, M_D1, M_XMAX, M_TAUMAX, M_DMAX, M_X2, M_V2, M_TAU2, M_D2, M_IN_A, M_IN_B,
+ M_FOUND, M_XA, M_VA, M_TA, M_XB, M_VB, M_TB, M_VF, M_TAUF, M_DF, M_RES, M_VEND, M_TAU0, M_D0,
+ M_SIZE) = range(28)
+
+
+@_jit
+def _coefficients(kind, w, y, K, c):
+    if kind == KIND_U:
+        _coefficients_u(w, y, K, c)
+    else:
+        _coefficients_t(w, y, K, c)
+
+
+@_jit
+def _phase_begin(kind, y, K, p):
+    """Start the phase set up in p (see _phase_setup) from the state y."""
+    p[P_W], p[P_STEPS], p[P_FOUND], p[P_SAMPLE] = p[P_START], 0.0, 0.0, 0.0
+    p[P_XR] = p[P_VR] = p[P_TR] = p[P_DR] = p[P_G] = np.nan
+    if p[P_ROOT] != ROOT_NONE:
+        x, v, _, _ = _state(kind, p[P_W], y[0], y[1], y[2])
+        p[P_G] = _g(int(p[P_ROOT]), x, v, K)
+
+
+@_jit
+def _phase_ended(kind, y, p, samples, out):
+    """Whether the phase has reached its end: w = stop (END_SPAN), x <= level (END_X) or v = 0
+    (END_V). At its end, the samples a phase of zero length did not reach are its start state."""
+    w, end = p[P_W], int(p[P_END])
+    if not (w == p[P_STOP] or (end == END_X and y[0] <= p[P_LEVEL])
+            or (end == END_V and y[1] == 0.0)):
+        return False
+    k = int(p[P_SAMPLE])
+    while k < len(samples):
+        wk = p[P_START] + samples[k] * (p[P_STOP] - p[P_START])
+        out[k, 0], out[k, 1], out[k, 2], out[k, 3] = _state(kind, wk, y[0], y[1], y[2])
+        k += 1
+    p[P_SAMPLE] = k
+    return True
+
+
+@_jit
+def _phase_step(kind, y, K, c, p, samples, out):
+    """One step of the phase in p, in place, from the state y at w = p[P_W], given the Taylor
+    coefficients c there (`_coefficients`). Returns the status (STEP_FAILURE: the polynomial is
+    degenerate, or MAX_STEPS reached).
+
+    The step ends at the phase's stop if it reaches it (END_SPAN), or at the zero of v if it
+    passes it (END_V: located on the step polynomial, where the phase ends with v = 0). The first
+    zero from above of the ROOT_* function along the phase is bracketed on the step ends and
+    refined on the step polynomial, with the state there. At `samples` (increasing fractions s in
+    [0, 1] of the phase, w = start + s (stop - start); only with END_SPAN) the step polynomial is
+    evaluated into out (m, 4): x, v, tau, D."""
+    start, stop, end, root = p[P_START], p[P_STOP], int(p[P_END]), int(p[P_ROOT])
+    w = p[P_W]
+    p[P_STEPS] += 1.0
+    if p[P_STEPS] > MAX_STEPS:
+        return STEP_FAILURE
     direction = 1.0 if stop >= start else -1.0
-    w = start
-    m = len(samples)
-    k = 0
-    found = 0.0
-    xr = vr = taur = Dr = np.nan
-    g_prev = np.nan
-    if root != ROOT_NONE:
-        x, v, _, _ = _state(kind, w, y[0], y[1], y[2])
-        g_prev = _g(root, x, v, K)
-    for _ in range(MAX_STEPS):
-        if (w == stop or (end == END_X and y[0] <= level)
-                or (end == END_V and y[1] == 0.0)):
-            while k < m:  # a phase of zero length
-                wk = start + samples[k] * (stop - start)
-                out[k, 0], out[k, 1], out[k, 2], out[k, 3] = _state(kind, wk, y[0], y[1], y[2])
-                k += 1
-            return 0, w, found, xr, vr, taur, Dr
-        v_prev = y[1]
-        if kind == KIND_U:
-            _coefficients_u(w, y, K, c)
-            h = _step_size(c, abs(y[0]), max(abs(y[1]), 1.0), max(abs(y[2]), abs(K)))
-        else:  # v is 0 at the maximum compression: its scale is x's (both in units of delta_e)
-            _coefficients_t(w, y, K, c)
-            h = _step_size(c, y[0], max(abs(y[1]), y[0]), max(abs(y[2]), abs(K)))
-        if not h > 0.0:  # nan or zero: the polynomial is degenerate
-            return 1, w, found, xr, vr, taur, Dr
-        last = end == END_SPAN and h >= abs(stop - w)
-        h = stop - w if last else direction * h
-        w_new = stop if last else w + h
-        # samples in this step
-        while k < m:
-            wk = start + samples[k] * (stop - start)
-            if not (last or direction * (wk - w_new) <= 0.0):
-                break
-            hk = wk - w
-            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = _state(
-                kind, wk, _horner(c, 0, hk), _horner(c, 1, hk), _horner(c, 2, hk))
-            k += 1
-        _horner3(c, h, y)
-        if end == END_V and y[1] <= 0.0:  # the step passed the zero of v: the phase ends there
-            theta = 1.0 if y[1] == 0.0 else _brent(kind, ROOT_VELOCITY, c, w, h, K, v_prev, y[1])
-            if theta < 1.0:
-                h = theta * h
-                w_new = w + h
-                y[0], y[2] = _horner(c, 0, h), _horner(c, 2, h)
-            y[1] = 0.0
-        if root != ROOT_NONE and found == 0.0:
-            x, v, _, _ = _state(kind, w_new, y[0], y[1], y[2])
-            g_new = _g(root, x, v, K)
-            if g_prev > 0.0 and g_new <= 0.0:
-                found = 1.0
-                if g_new == 0.0:  # the zero is the step end: take its state as it is
-                    theta = 1.0
-                else:
-                    theta = _brent(kind, root, c, w, h, K, g_prev, g_new)
-                if theta == 1.0:
-                    xr, vr, taur, Dr = _state(kind, w_new, y[0], y[1], y[2])
-                else:
-                    xr, vr, taur, Dr = _state(kind, w + theta * h, _horner(c, 0, theta * h),
-                                              _horner(c, 1, theta * h), _horner(c, 2, theta * h))
-            g_prev = g_new
-        w = w_new
-    return 1, w, found, xr, vr, taur, Dr
+    v_prev = y[1]
+    if kind == KIND_U:
+        h = _step_size(c, abs(y[0]), max(abs(y[1]), 1.0), max(abs(y[2]), abs(K)))
+    else:  # v is 0 at the maximum compression: its scale is x's (both in units of delta_e)
+        h = _step_size(c, y[0], max(abs(y[1]), y[0]), max(abs(y[2]), abs(K)))
+    if not h > 0.0:  # nan or zero: the polynomial is degenerate
+        return STEP_FAILURE
+    last = end == END_SPAN and h >= abs(stop - w)
+    h = stop - w if last else direction * h
+    w_new = stop if last else w + h
+    k, m = int(p[P_SAMPLE]), len(samples)
+    while k < m:  # samples in this step
+        wk = start + samples[k] * (stop - start)
+        if not (last or direction * (wk - w_new) <= 0.0):
+            break
+        hk = wk - w
+        out[k, 0], out[k, 1], out[k, 2], out[k, 3] = _state(
+            kind, wk, _horner(c, 0, hk), _horner(c, 1, hk), _horner(c, 2, hk))
+        k += 1
+    p[P_SAMPLE] = k
+    _horner3(c, h, y)
+    if end == END_V and y[1] <= 0.0:  # the step passed the zero of v: the phase ends there
+        theta = 1.0 if y[1] == 0.0 else _brent(kind, ROOT_VELOCITY, c, w, h, K, v_prev, y[1])
+        if theta < 1.0:
+            h = theta * h
+            w_new = w + h
+            y[0], y[2] = _horner(c, 0, h), _horner(c, 2, h)
+        y[1] = 0.0
+    if root != ROOT_NONE and p[P_FOUND] == 0.0:
+        x, v, _, _ = _state(kind, w_new, y[0], y[1], y[2])
+        g_new = _g(root, x, v, K)
+        if p[P_G] > 0.0 and g_new <= 0.0:
+            p[P_FOUND] = 1.0
+            if g_new == 0.0:  # the zero is the step end: take its state as it is
+                theta = 1.0
+            else:
+                theta = _brent(kind, root, c, w, h, K, p[P_G], g_new)
+            if theta == 1.0:
+                p[P_XR], p[P_VR], p[P_TR], p[P_DR] = _state(kind, w_new, y[0], y[1], y[2])
+            else:
+                p[P_XR], p[P_VR], p[P_TR], p[P_DR] = _state(
+                    kind, w + theta * h, _horner(c, 0, theta * h), _horner(c, 1, theta * h),
+                    _horner(c, 2, theta * h))
+        p[P_G] = g_new
+    p[P_W] = w_new
+    return OK
+
+
+@_jit
+def _phase(kind, y, K, c, p, samples, out):
+    """Integrate the phase set up in p from the state y, in place, to its end (one K, step by
+    step: `_phase_step`). Returns the status."""
+    _phase_begin(kind, y, K, p)
+    while not _phase_ended(kind, y, p, samples, out):
+        _coefficients(kind, p[P_W], y, K, c)
+        if _phase_step(kind, y, K, c, p, samples, out):
+            return STEP_FAILURE
+    return OK
 
 
 @_jit
@@ -369,112 +435,217 @@ def _x_max_lower_bound(K):
 
 
 @_jit
-def _phases(K, samples, out, c, row, y):
-    """The four phases A, B1, B2, C of `collision_ode` for one K. Returns (status, row): row
-    (N_OUT,) and y (3,) are scratch passed in (no allocation per K). With fractions samples (4, m)
-    of each phase, fills out (4, m, 4) with (x, v, tau, D) there.
+def _k_begin(K, m):
+    """The record m of a K before its first phase."""
+    for j in range(M_SIZE):
+        m[j] = np.nan
+    m[M_US] = math.sqrt(XS_FRACTION * _x_max_lower_bound(K))
+    m[M_IN_A] = m[M_IN_B] = m[M_FOUND] = m[M_RES] = 0.0
+
+
+@_jit
+def _phase_setup(ph, m, y, p):
+    """Phase ph (0..3: A, B1, B2, C) of a K whose earlier phases are recorded in m: its kind
+    (returned), and in p its start, stop, root and end (see _phase_step); y is set to its start
+    state."""
+    end, level, stop = END_SPAN, 0.0, np.inf
+    if ph == 0:  # A: u from 0 to u_s
+        kind, start, stop, root = KIND_U, 0.0, m[M_US], ROOT_RATE
+        y[0], y[1], y[2] = 1.0, 0.0, 0.0
+    elif ph == 1:  # B1: tau from tau_1 to the maximum compression (v = 0)
+        kind, start, end = KIND_T, m[M_TAU1], END_V
+        root = ROOT_NONE if m[M_IN_A] == 1.0 else ROOT_RATE
+        y[0], y[1], y[2] = m[M_US] * m[M_US], m[M_V1], m[M_D1]
+    elif ph == 2:  # B2: tau from tau_max to the first step end with x <= XC_FRACTION x_max
+        kind, start, root, end = KIND_T, m[M_TAUMAX], ROOT_FORCE, END_X
+        level = XC_FRACTION * m[M_XMAX]
+        y[0], y[1], y[2] = m[M_XMAX], 0.0, m[M_DMAX]
+    else:  # C: u from sqrt(x_2) to 0 (criterion x0), with the force zero if B2 had none
+        kind, start, stop = KIND_U, math.sqrt(m[M_X2]), 0.0
+        root = ROOT_NONE if m[M_FOUND] == 1.0 else ROOT_FORCE
+        y[0], y[1], y[2] = m[M_V2], m[M_TAU2], m[M_D2]
+    p[P_START], p[P_STOP], p[P_ROOT], p[P_END], p[P_LEVEL] = start, stop, root, end, level
+    return kind
+
+
+@_jit
+def _phase_record(ph, m, y, p):
+    """Record in m what phase ph found: its end state y at w = p[P_W], its root search's result,
+    and the energy balance's residual there."""
+    w_end, hit = p[P_W], p[P_FOUND]
+    if ph == 0:
+        m[M_V1], m[M_TAU1], m[M_D1] = y[0], y[1], y[2]
+        m[M_IN_A], m[M_XA], m[M_VA], m[M_TA] = hit, p[P_XR], p[P_VR], p[P_TR]
+        m[M_RES] = abs((m[M_US] * m[M_US]) ** 2.5 + y[0] * y[0] + y[2] - 1.0)
+    elif ph == 1:
+        m[M_XMAX], m[M_TAUMAX], m[M_DMAX] = y[0], w_end, y[2]
+        m[M_IN_B], m[M_XB], m[M_VB], m[M_TB] = hit, p[P_XR], p[P_VR], p[P_TR]
+        m[M_RES] = max(m[M_RES], abs(y[0]**2.5 + y[2] - 1.0))
+    elif ph == 2:
+        m[M_X2], m[M_V2], m[M_TAU2], m[M_D2] = y[0], y[1], w_end, y[2]
+        m[M_FOUND], m[M_VF], m[M_TAUF], m[M_DF] = hit, p[P_VR], p[P_TR], p[P_DR]
+        m[M_RES] = max(m[M_RES], abs(y[0]**2.5 + y[1] * y[1] + y[2] - 1.0))
+    else:
+        if m[M_FOUND] == 0.0:
+            m[M_FOUND], m[M_VF], m[M_TAUF], m[M_DF] = hit, p[P_VR], p[P_TR], p[P_DR]
+        m[M_VEND], m[M_TAU0], m[M_D0] = y[0], y[1], y[2]
+        m[M_RES] = max(m[M_RES], abs(y[0] * y[0] + y[2] - 1.0))
+
+
+@_jit
+def _result_row(K, m, row):
+    """The N_OUT characteristics (CollisionTable's field order) of a K from its record m."""
+    tau_f, v_f, D_f = m[M_TAUF], m[M_VF], m[M_DF]
+    if m[M_FOUND] == 0.0:  # K = 0: the force vanishes at x = 0; K < 0: F0 means nothing
+        no_sign_change = np.nan if K < 0 else 1.0
+        tau_f, v_f, D_f = (m[M_TAU0] * no_sign_change, m[M_VEND] * no_sign_change,
+                           m[M_D0] * no_sign_change)
+    if m[M_IN_A] == 1.0:
+        x_fm, v_fm, tau_fm = m[M_XA], m[M_VA], m[M_TA]
+    elif m[M_IN_B] == 1.0:
+        x_fm, v_fm, tau_fm = m[M_XB], m[M_VB], m[M_TB]
+    else:
+        x_fm, v_fm, tau_fm = m[M_XMAX], 0.0, m[M_TAUMAX]
+    row[0], row[1], row[2], row[3], row[4] = K, m[M_XMAX], m[M_TAUMAX], tau_f, -v_f
+    row[5], row[6] = m[M_TAU0], -m[M_VEND]
+    row[7] = math.sqrt(x_fm) * (ELASTIC * x_fm + K * v_fm)
+    row[8], row[9] = tau_fm, x_fm
+    row[10], row[11], row[12], row[13] = m[M_DMAX], m[M_DF], m[M_D0], m[M_RES]
+
+
+@_jit
+def _phases(K, samples, out, c, m, y, p):
+    """The four phases A, B1, B2, C of `collision_ode` for one K, recorded in m; returns the
+    status. c, m, y and p are the caller's scratch. With fractions samples (4, s) of each phase,
+    fills out (4, s, 4) with (x, v, tau, D) there: a phase that ends where its state says so
+    (B1, B2) is integrated twice, the second time over the span the first found, with the samples.
 
     One call site of _phase inside a loop over the phases: four call sites would each be
     inlined and optimised by LLVM, which multiplies the (cached, but once per clone) compile time.
     """
-    for j in range(N_OUT):
-        row[j] = np.nan
-    u_s = math.sqrt(XS_FRACTION * _x_max_lower_bound(K))
-    v1 = tau1 = D1 = x_max = tau_max = D_max = x_2 = v_2 = tau_2 = D_2 = np.nan
-    in_a = in_b = found = 0.0
-    xa = va = ta = xb = vb = tb = v_f = tau_f = D_f = np.nan
-    res = 0.0
+    _k_begin(K, m)
     resample = False
     span_end = np.nan
     ph = 0
     while ph < 4:
+        kind = _phase_setup(ph, m, y, p)
         smp, o = samples[ph], out[ph]
-        end, level, stop = END_SPAN, 0.0, np.inf
-        if ph == 0:  # A: u from 0 to u_s
-            kind, start, stop, root = KIND_U, 0.0, u_s, ROOT_RATE
-            y[0], y[1], y[2] = 1.0, 0.0, 0.0
-        elif ph == 1:  # B1: tau from tau_1 to the maximum compression (v = 0)
-            kind, start, end = KIND_T, tau1, END_V
-            root = ROOT_NONE if in_a == 1.0 else ROOT_RATE
-            y[0], y[1], y[2] = u_s * u_s, v1, D1
-        elif ph == 2:  # B2: tau from tau_max to the first step end with x <= XC_FRACTION x_max
-            kind, start, root, end, level = KIND_T, tau_max, ROOT_FORCE, END_X, XC_FRACTION * x_max
-            y[0], y[1], y[2] = x_max, 0.0, D_max
-        else:  # C: u from sqrt(x_2) to 0 (criterion x0), with the force zero if B2 had none
-            kind, start, stop = KIND_U, math.sqrt(x_2), 0.0
-            root = ROOT_NONE if found == 1.0 else ROOT_FORCE
-            y[0], y[1], y[2] = v_2, tau_2, D_2
         if resample:  # the trajectory's samples, over the span the first pass found
-            end, stop, root = END_SPAN, span_end, ROOT_NONE
-        elif end != END_SPAN:
+            p[P_END], p[P_STOP], p[P_ROOT] = END_SPAN, span_end, ROOT_NONE
+        elif p[P_END] != END_SPAN:
             smp, o = samples[ph, :0], out[ph, :0]
-        st, w_end, hit, xr, vr, tr, Dr = _phase(kind, start, stop, y, K, root, smp, o, c, end,
-                                                level)
-        if st:
-            return STEP_FAILURE, row
+        if _phase(kind, y, K, c, p, smp, o):
+            return STEP_FAILURE
         if resample:
             resample = False
-        elif ph == 0:
-            v1, tau1, D1 = y[0], y[1], y[2]
-            in_a, xa, va, ta = hit, xr, vr, tr
-            res = abs((u_s * u_s) ** 2.5 + v1 * v1 + D1 - 1.0)
-        elif ph == 1:
-            x_max, tau_max, D_max = y[0], w_end, y[2]
-            in_b, xb, vb, tb = hit, xr, vr, tr
-            res = max(res, abs(x_max**2.5 + D_max - 1.0))
-        elif ph == 2:
-            x_2, v_2, tau_2, D_2 = y[0], y[1], w_end, y[2]
-            found, v_f, tau_f, D_f = hit, vr, tr, Dr
-            res = max(res, abs(x_2**2.5 + v_2 * v_2 + D_2 - 1.0))
-        elif found == 0.0:
-            found, v_f, tau_f, D_f = hit, vr, tr, Dr
-        if end != END_SPAN and samples.shape[1] > 0:
-            resample, span_end = True, w_end
-            continue
+        else:
+            _phase_record(ph, m, y, p)
+            if p[P_END] != END_SPAN and samples.shape[1] > 0:
+                resample, span_end = True, p[P_W]
+                continue
         ph += 1
-    v_end, tau_0, D_0 = y[0], y[1], y[2]
-    res = max(res, abs(v_end * v_end + D_0 - 1.0))
-    if found == 0.0:  # K = 0: the force vanishes at x = 0; K < 0: F0 means nothing
-        no_sign_change = np.nan if K < 0 else 1.0
-        tau_f, v_f, D_f = tau_0 * no_sign_change, v_end * no_sign_change, D_0 * no_sign_change
-
-    if in_a == 1.0:
-        x_fm, v_fm, tau_fm = xa, va, ta
-    elif in_b == 1.0:
-        x_fm, v_fm, tau_fm = xb, vb, tb
-    else:
-        x_fm, v_fm, tau_fm = x_max, 0.0, tau_max
-
-    row[0], row[1], row[2], row[3], row[4] = K, x_max, tau_max, tau_f, -v_f
-    row[5], row[6] = tau_0, -v_end
-    row[7] = math.sqrt(x_fm) * (ELASTIC * x_fm + K * v_fm)
-    row[8], row[9] = tau_fm, x_fm
-    row[10], row[11], row[12], row[13] = D_max, D_f, D_0, res
-    return OK, row
+    return OK
 
 
 @_jit
+def _lanes(Ks, c, ms, ys, ps, b, status, samples, out):
+    """The four phases for LANES K values Ks at once, recorded in ms (LANES, M_SIZE); status per
+    lane. The lanes go through the phases together, each phase until its last lane has ended; a
+    step computes the Taylor coefficients of all lanes in one call of the lane functions
+    (vectorised: see _generate_coefficients._lanes), then each lane's step on its own
+    (`_phase_step`, on a copy of its coefficients). A lane that has ended its phase, or failed,
+    waits, its coefficients computed but not used: lanes of near-equal K take near-equal steps
+    (solve_batch sorts the K).
+
+    The arithmetic of every lane is `_phases`': the results are bit for bit the same."""
+    for l in range(LANES):
+        _k_begin(Ks[l], ms[l])
+        status[l] = OK
+    for ph in range(4):
+        kind = KIND_U
+        for l in range(LANES):
+            kind = _phase_setup(ph, ms[l], ys[l], ps[l])
+            _phase_begin(kind, ys[l], Ks[l], ps[l])
+        while True:
+            going = 0
+            for l in range(LANES):
+                if status[l] == OK and not _phase_ended(kind, ys[l], ps[l], samples, out):
+                    going += 1
+                b[B_W + l], b[B_K + l] = ps[l, P_W], Ks[l]
+                for i in range(3):
+                    b[B_Y + i * LANES + l] = ys[l, i]
+            if going == 0:
+                break
+            if kind == KIND_U:
+                _coefficients_u_lanes(b)
+            else:
+                _coefficients_t_lanes(b)
+            for l in range(LANES):
+                if status[l] != OK or _phase_ended(kind, ys[l], ps[l], samples, out):
+                    continue
+                for i in range(3):
+                    for n in range(ORDER + 1):
+                        c[i, n] = b[B_C + (i * (ORDER + 1) + n) * LANES + l]
+                status[l] = _phase_step(kind, ys[l], Ks[l], c, ps[l], samples, out)
+        for l in range(LANES):
+            if status[l] == OK:
+                _phase_record(ph, ms[l], ys[l], ps[l])
+
+
+@_jit_alloc
 def solve_batch(K):
-    """One row of N_OUT characteristics per K (CollisionTable's field order); status per K."""
+    """One row of N_OUT characteristics per K (CollisionTable's field order; nan where the
+    status is not OK); status per K. LANES K at a time (`_lanes`), in increasing order."""
     n = len(K)
-    table = np.empty((n, N_OUT))
+    table = np.full((n, N_OUT), np.nan)
     status = np.zeros(n, dtype=np.int64)
+    if n == 0:
+        return table, status
+    order = np.argsort(K, kind="mergesort")
     c = np.empty((3, ORDER + 1))
-    samples = np.empty((4, 0))
-    out = np.empty((4, 0, 4))
-    row, y = np.empty(N_OUT), np.empty(3)  # scratch, reused for every K
-    for i in range(n):
-        st, row = _phases(K[i], samples, out, c, row, y)
-        status[i] = st
-        for j in range(N_OUT):  # not table[i] = row: its shape check alone compiles for seconds
-            table[i, j] = row[j]
+    ms, ys, ps = np.empty((LANES, M_SIZE)), np.empty((LANES, 3)), np.empty((LANES, P_SIZE))
+    b, Ks, st = np.zeros(B_SIZE), np.empty(LANES), np.empty(LANES, dtype=np.int64)
+    samples, out = np.empty(0), np.empty((0, 4))
+    samples2, out2 = np.empty((4, 0)), np.empty((4, 0, 4))  # _phases' shapes: no trajectory
+    row = np.empty(N_OUT)
+    for first in range(0, n, LANES):
+        size = min(LANES, n - first)
+        if size <= LANES // 2:
+            # A group of eight lanes costs about five K solved one by one (measured): a short
+            # last group, and a single K in particular, goes through the scalar path.
+            for l in range(size):
+                Ks[l] = K[order[first + l]]
+                st[l] = _phases(Ks[l], samples2, out2, c, ms[l], ys[l], ps[l])
+        else:
+            for l in range(LANES):  # a last group short of LANES K repeats its last K
+                Ks[l] = K[order[min(first + l, n - 1)]]
+            _lanes(Ks, c, ms, ys, ps, b, st, samples, out)
+        for l in range(size):
+            i = order[first + l]
+            status[i] = st[l]
+            if st[l] == OK:
+                _result_row(Ks[l], ms[l], row)
+                for j in range(N_OUT):  # not table[i] = row: its shape check alone compiles for seconds
+                    table[i, j] = row[j]
     return table, status
 
 
-@_jit
+@_jit_alloc
+def solve_one(K):
+    """solve_batch for one K without the lanes (the reference path of the tests): (row, status)."""
+    c = np.empty((3, ORDER + 1))
+    m, y, p = np.empty(M_SIZE), np.empty(3), np.empty(P_SIZE)
+    row = np.full(N_OUT, np.nan)
+    st = _phases(K, np.empty((4, 0)), np.empty((4, 0, 4)), c, m, y, p)
+    if st == OK:
+        _result_row(K, m, row)
+    return row, st
+
+
+@_jit_alloc
 def trajectory(K, samples):
     """(x, v, tau, D) at samples (4, m) of each phase's own variable: out (4, m, 4); status."""
     c = np.empty((3, ORDER + 1))
     out = np.empty((4, samples.shape[1], 4))
-    st, _ = _phases(K, samples, out, c, np.empty(N_OUT), np.empty(3))
+    st = _phases(K, samples, out, c, np.empty(M_SIZE), np.empty(3), np.empty(P_SIZE))
     return out, st

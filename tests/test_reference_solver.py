@@ -121,6 +121,26 @@ def test_a_failed_integration_is_an_error_naming_its_K_not_a_row_of_numbers():
         collision_ode._solve_batch(np.array([0.1, 1e300]))
 
 
+@pytest.mark.parametrize("n", [1, 4, 5, 8, 203])  # scalar path, lanes padded, full groups
+def test_lanes_are_bit_identical_to_the_scalar_path(n):
+    """solve_batch steps LANES K together (vectorised coefficients); each lane must do exactly
+    the scalar integration's arithmetic: same rows to the bit, for any group size, for K = 0
+    and negative K, and with a failing K in a group leaving its neighbours untouched."""
+    from reference import collision_ode
+
+    kernel = collision_ode._kernel()
+    K = np.random.default_rng(n).uniform(-0.5, 10.0, n)
+    K[0] = 0.0
+    if n >= 8:
+        K[3] = 1e300  # fails (STEP_FAILURE) inside a group of lanes
+    table, status = kernel.solve_batch(K)
+    for i, k in enumerate(K):
+        row, st = kernel.solve_one(k)
+        assert status[i] == st, k
+        assert np.array_equal(table[i], row, equal_nan=True), k
+    assert (status == kernel.OK).sum() == n - (n >= 8)
+
+
 def test_batches_agree_with_single_solutions():
     Ks = np.linspace(0.01, 3, 300)
     batch = solve_collisions(Ks)
