@@ -51,7 +51,7 @@ rule calibration_dem:
     log: "logs/calibration/{cal_case}/dem.log"
     params: build=lambda w: build_params(calibration_build().id), time_step_factor=CALIBRATION["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"]
-    threads: 1
+    threads: lambda w: CODES[calibration_build().code].processes  # as run_engine (ESyS: two MPI ranks)
     resources: runtime=30, mem_mb=2000
     script: "../scripts/calibration_dem.py"
 

@@ -28,6 +28,7 @@ rule convergence_runs:
     benchmark: "benchmarks/convergence/{build}.tsv"
     params: convergence=config["convergence"], timeout_floor_s=config["engine_timeout_floor_s"],
             build=lambda w: build_params(w.build)
+    threads: lambda w: CODES[BUILDS[w.build].code].processes  # as run_engine: ESyS runs two MPI ranks
     priority: lambda w: convergence_priority_of(BUILDS[w.build].code)
     resources: runtime=30, mem_mb=2000
     script: "../scripts/convergence_runs.py"

@@ -35,6 +35,7 @@ rule paper_energy_runs:
     log: "logs/paper/energy_runs.log"
     params: energy=config["paper"]["energy"], build=build_params(BUILD_IDS[0]), time_step_factor=config["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"]
+    threads: CODES[BUILDS[BUILD_IDS[0]].code].processes  # as run_engine (ESyS: two MPI ranks)
     script: "../scripts/paper_energy_runs.py"
 
 
