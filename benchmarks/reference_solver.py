@@ -1,8 +1,8 @@
 """Speed of the reference solver's compiled kernel against an earlier version of it, in one run.
 
-The earlier kernel (reference/_taylor.py at --baseline, default the commit before the speed work;
-it must be self-contained, as it was there) is copied out of git into a temporary folder and
-imported next to the current one, so that both are timed in the same process on the same, possibly
+The earlier kernel (reference/_taylor.py at --baseline, default the commit before the speed work,
+with the generated reference/_coefficients.py of that revision where it has one) is copied out of
+git into a temporary folder and imported next to the current one, so that both are timed in the same process on the same, possibly
 busy, machine. Printed, for the current (new) and the earlier (old) kernel and their ratio:
 
 - one K a call [ms]: solve_collision(K) through the public API, median over repeats of the mean
@@ -20,7 +20,7 @@ Targets of the speed issue: <= 1 ms per single K, >= 1e5 K/s in a batch on one c
 """
 
 import argparse
-import importlib.util
+import importlib
 import os
 import statistics
 import subprocess
@@ -43,22 +43,32 @@ MPMATH_K = ("0.1", "0.37", "1")  # where tests/independent_solver.py applies
 
 
 def load_kernel(rev):
-    """reference/_taylor.py at git revision `rev`, imported as a module of its own (its numba
-    cache lives in a per-revision temporary folder, so a second run loads it)."""
-    sha = subprocess.run(["git", "rev-parse", "--short", rev], cwd=ROOT, capture_output=True,
-                         text=True, check=True).stdout.strip()
-    folder = Path(tempfile.gettempdir()) / f"reference-kernel-{sha}"
+    """reference/_taylor.py at git revision `rev`, imported with the generated
+    reference/_coefficients.py it imports (where that revision has one) as a package of its own,
+    reference_kernel_<sha> in a temporary folder (where its numba cache lives, so that a second
+    run loads it)."""
+    parsed = subprocess.run(["git", "rev-parse", "--short", "--verify", f"{rev}^{{commit}}"], cwd=ROOT,
+                            capture_output=True, text=True)
+    if parsed.returncode != 0:
+        raise SystemExit(f"--baseline {rev}: not a git revision of {ROOT}")
+    sha = parsed.stdout.strip()
+    package = f"reference_kernel_{sha}"
+    folder = Path(tempfile.gettempdir()) / package
     folder.mkdir(exist_ok=True)
-    path = folder / "_taylor_old.py"
-    source = subprocess.run(["git", "show", f"{sha}:reference/_taylor.py"], cwd=ROOT,
-                            capture_output=True, text=True, check=True).stdout
-    if not path.exists() or path.read_text() != source:
-        path.write_text(source)
-    spec = importlib.util.spec_from_file_location("_taylor_old", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # numba's cache finds the module by name
-    spec.loader.exec_module(module)
-    return module, sha
+    for name in ("__init__.py", "_taylor.py", "_coefficients.py"):
+        shown = subprocess.run(["git", "show", f"{sha}:reference/{name}"], cwd=ROOT,
+                               capture_output=True, text=True)
+        source = "" if name == "__init__.py" else shown.stdout
+        if shown.returncode != 0 and name != "_coefficients.py":
+            raise SystemExit(f"--baseline {rev}: no reference/{name} there ({shown.stderr.strip()})")
+        path = folder / name
+        if not path.exists() or path.read_text() != source:  # rewriting would void numba's cache
+            path.write_text(source)
+    sys.path.insert(0, str(folder.parent))
+    try:
+        return importlib.import_module(f"{package}._taylor"), sha
+    finally:
+        sys.path.remove(str(folder.parent))
 
 
 @contextmanager
