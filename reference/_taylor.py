@@ -548,9 +548,9 @@ def _phases(K, samples, out, c, m, y, p):
 
 
 @_jit
-def _lanes(Ks, c, ms, ys, ps, b, status, samples, out):
+def _lanes(Ks, c, ms, ys, ps, b, status, stepping, samples, out):
     """The four phases for LANES K values Ks at once, recorded in ms (LANES, M_SIZE); status per
-    lane. The lanes go through the phases together, each phase until its last lane has ended; a
+    lane (stepping (LANES,) is scratch: the lanes still in their phase at a tick). The lanes go through the phases together, each phase until its last lane has ended; a
     step computes the Taylor coefficients of all lanes in one call of the lane functions
     (vectorised: see _generate_coefficients._lanes), then each lane's step on its own
     (`_phase_step`, on a copy of its coefficients). A lane that has ended its phase, or failed,
@@ -569,8 +569,8 @@ def _lanes(Ks, c, ms, ys, ps, b, status, samples, out):
         while True:
             going = 0
             for l in range(LANES):
-                if status[l] == OK and not _phase_ended(kind, ys[l], ps[l], samples, out):
-                    going += 1
+                stepping[l] = status[l] == OK and not _phase_ended(kind, ys[l], ps[l], samples, out)
+                going += stepping[l]
                 b[B_W + l], b[B_K + l] = ps[l, P_W], Ks[l]
                 for i in range(3):
                     b[B_Y + i * LANES + l] = ys[l, i]
@@ -581,7 +581,7 @@ def _lanes(Ks, c, ms, ys, ps, b, status, samples, out):
             else:
                 _coefficients_t_lanes(b)
             for l in range(LANES):
-                if status[l] != OK or _phase_ended(kind, ys[l], ps[l], samples, out):
+                if not stepping[l]:
                     continue
                 for i in range(3):
                     for n in range(ORDER + 1):
@@ -605,8 +605,8 @@ def solve_batch(K):
     c = np.empty((3, ORDER + 1))
     ms, ys, ps = np.empty((LANES, M_SIZE)), np.empty((LANES, 3)), np.empty((LANES, P_SIZE))
     b, Ks, st = np.zeros(B_SIZE), np.empty(LANES), np.empty(LANES, dtype=np.int64)
-    samples, out = np.empty(0), np.empty((0, 4))
-    samples2, out2 = np.empty((4, 0)), np.empty((4, 0, 4))  # _phases' shapes: no trajectory
+    stepping = np.empty(LANES, dtype=np.bool_)
+    samples, out = np.empty((4, 0)), np.empty((4, 0, 4))  # no trajectory: no samples per phase
     row = np.empty(N_OUT)
     for first in range(0, n, LANES):
         size = min(LANES, n - first)
@@ -615,11 +615,11 @@ def solve_batch(K):
             # last group, and a single K in particular, goes through the scalar path.
             for l in range(size):
                 Ks[l] = K[order[first + l]]
-                st[l] = _phases(Ks[l], samples2, out2, c, ms[l], ys[l], ps[l])
+                st[l] = _phases(Ks[l], samples, out, c, ms[l], ys[l], ps[l])
         else:
             for l in range(LANES):  # a last group short of LANES K repeats its last K
                 Ks[l] = K[order[min(first + l, n - 1)]]
-            _lanes(Ks, c, ms, ys, ps, b, st, samples, out)
+            _lanes(Ks, c, ms, ys, ps, b, st, stepping, samples[0], out[0])
         for l in range(size):
             i = order[first + l]
             status[i] = st[l]
