@@ -32,7 +32,7 @@ A case the engines cannot run honestly is refused here, before any engine starts
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from contact_model.case_file import Case, CaseError
 from contact_model.contact_pair import Body, ContactPair
@@ -291,14 +291,18 @@ def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunS
 
 
 def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, velocity: float,
-                     purpose: str, build: str = "") -> list[RunSpec]:
+                     purpose: str, build: str = "", solved: dict | None = None) -> list[RunSpec]:
     """Runs of the case's material and geometries at one impact velocity, the viscosity set for
     each K (K = 0: elastic), at every time-step factor (the convergence study, the paper's
     Fig. 4). `purpose` tags the case name. The law is the model under test, 'viscoelastic'; a
     code that cannot keep the attractive tail (`engines.codes`, ``unavailable``, e.g. ESyS) runs
     'viscoelastic_clipped' (criterion F0 only) instead, and a code that cannot express the
     viscoelastic force at all (e.g. Kratos) runs K = 0 alone, with its law 'elastic' (the same
-    Hertz force, eta = 0); its K > 0 runs are left out."""
+    Hertz force, eta = 0); its K > 0 runs are left out.
+
+    Every run carries the reference at its own K (`RunSpec.reference`), solved in one batch;
+    `solved` ({K: reference row}, `references_of` an earlier plan of the same runs) spares the
+    solve, and with it the compiled kernel's load (~1 s), in a job whose workflow has solved them."""
     from contact_model import ContactPair
     from contact_model.collision_scales import viscosity_for_dissipation
 
@@ -314,4 +318,17 @@ def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, veloc
             law_K = "elastic" if hertz_only else law
             runs += [RunSpec(f"{case.name}-{purpose}", engine, law_K, tuned, velocity, f, build=build)
                      for f in time_step_factors]
-    return runs
+    # The reference at every run's own K in one batch, handed on as run_engine's plan does: a
+    # run solved its K itself each time it was asked for its steps (72 one-K solves for the
+    # 36 runs of a convergence sweep). K > 10 and K = 0 need none (RunSpec.steps).
+    solved = dict(solved or {})
+    missing = sorted({r.K for r in runs if 0.0 < r.K <= 10.0} - set(solved))
+    if missing:
+        solved.update(zip(missing, solve_collisions(missing).rows()))
+    return [replace(r, reference=solved[r.K]) if r.K in solved and 0.0 < r.K <= 10.0 else r for r in runs]
+
+
+def references_of(runs: list[RunSpec]) -> dict:
+    """{K: reference row} of the runs that carry one: what `plan_at_velocity(..., solved=)`
+    takes, to hand a plan's solutions on to a job (a Snakemake param) instead of solving again."""
+    return {r.K: r.reference for r in runs if r.reference is not None}

@@ -2,17 +2,22 @@
 
 from functools import lru_cache
 
-from engines.plan import plan_at_velocity
+from engines.plan import plan_at_velocity, references_of
 
 
 @lru_cache(maxsize=None)
+def convergence_plan_of(code):
+    """`code`'s convergence runs, planned (and their reference solved) once per workflow."""
+    c = config["convergence"]
+    return plan_at_velocity(load_case(c["case"]), code, c["K"], c["time_step_factors"], c["velocity"], "convergence")
+
+
 def convergence_priority_of(code):
     """1 + 10 x the expected seconds of `code`'s convergence sweep (engines.codes cost model), as
     run_engine's priority: these are the study's longest engine jobs (ESyS's ~1 min expected),
     and convergence_summary, which waits for the last of them, lands on the study's tail when
     they start late."""
-    c = config["convergence"]
-    runs = plan_at_velocity(load_case(c["case"]), code, c["K"], c["time_step_factors"], c["velocity"], "convergence")
+    runs = convergence_plan_of(code)
     return 1 + int(10 * CODES[code].expected_seconds(len(runs), sum(r.steps() for r in runs)))
 
 
@@ -27,7 +32,9 @@ rule convergence_runs:
     log: "logs/convergence/{build}.log"
     benchmark: "benchmarks/convergence/{build}.tsv"
     params: convergence=config["convergence"], timeout_floor_s=config["engine_timeout_floor_s"],
-            build=lambda w: build_params(w.build)
+            build=lambda w: build_params(w.build),
+            # solved here already (the priority's plan): the job need not load the kernel again
+            reference=lambda w: references_of(convergence_plan_of(BUILDS[w.build].code))
     threads: lambda w: CODES[BUILDS[w.build].code].processes  # as run_engine: ESyS runs two MPI ranks
     priority: lambda w: convergence_priority_of(BUILDS[w.build].code)
     resources: runtime=30, mem_mb=2000

@@ -1,5 +1,7 @@
 # Reproducing the paper: its claims, Table 1 and Figs. 1, 3, 4 and 5 (results/paper/).
 
+from engines.plan import plan_at_velocity, references_of
+
 
 rule paper_claims:
     """The paper's claims, each with its number, the computed one and a verdict; its Table 1."""
@@ -26,6 +28,13 @@ rule paper_figure_3:
     script: "../scripts/paper_figure.py"
 
 
+def energy_references():
+    """The reference rows of Fig. 4's DEM runs, solved in the workflow (one batch), handed to the job."""
+    e = config["paper"]["energy"]
+    return references_of(plan_at_velocity(load_case(e["case"]), BUILDS[BUILD_IDS[0]].code, e["K"],
+                                          [config["time_step_factor"]], e["velocity"], "energy"))
+
+
 rule paper_energy_runs:
     """The DEM runs of Fig. 4, in the first configured build."""
     input: case=config["paper"]["energy"]["case"], decks=DECKS[BUILDS[BUILD_IDS[0]].code]
@@ -34,7 +43,7 @@ rule paper_energy_runs:
         runs=directory("results/paper/energy_runs/runs"),
     log: "logs/paper/energy_runs.log"
     params: energy=config["paper"]["energy"], build=build_params(BUILD_IDS[0]), time_step_factor=config["time_step_factor"],
-            timeout_floor_s=config["engine_timeout_floor_s"]
+            timeout_floor_s=config["engine_timeout_floor_s"], reference=lambda w: energy_references()
     threads: CODES[BUILDS[BUILD_IDS[0]].code].processes  # as run_engine (ESyS: two MPI ranks)
     script: "../scripts/paper_energy_runs.py"
 

@@ -11,7 +11,7 @@ log = start_rule(snakemake)
 e = snakemake.params.energy
 build = Build(**snakemake.params.build)
 runs = plan_at_velocity(load_case(snakemake.input.case), build.code, e["K"], [snakemake.params.time_step_factor],
-                        e["velocity"], "energy", build=build.id)
+                        e["velocity"], "energy", build=build.id, solved=snakemake.params.reference)
 sweep = run_sweep(build, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s).raise_first()
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs], build=build.id, engine=build.code,
                engine_seconds=sweep.engine_seconds)
