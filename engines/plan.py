@@ -125,6 +125,16 @@ def _checked(case: Case, pair, v: float, where: str, what: str, K_target, time_s
     return scales, spec
 
 
+def _with_solutions(Ks, solved: dict | None = None) -> dict:
+    """`solved` ({K: reference row}) with the row of every K in `Ks` it lacks, those solved in
+    one batch (`reference.solve_collisions`)."""
+    solved = dict(solved or {})
+    missing = sorted(set(Ks) - set(solved))
+    if missing:
+        solved.update(zip(missing, solve_collisions(missing).rows()))
+    return solved
+
+
 def _solved_in_one_batch(case: Case, velocities: dict) -> dict:
     """{K: reference row} of every velocity of the case whose K is a number the solver takes
     (0 <= K <= 10), solved in one batch; the others are refused or solved later, one by one."""
@@ -137,8 +147,7 @@ def _solved_in_one_batch(case: Case, velocities: dict) -> dict:
                 continue
             if math.isfinite(K) and 0 <= K <= 10:
                 Ks.add(K)
-    Ks = sorted(Ks)
-    return dict(zip(Ks, solve_collisions(Ks).rows())) if Ks else {}
+    return _with_solutions(Ks)
 
 
 def matched_restitution(engine: str, match_K: float) -> float:
@@ -215,8 +224,7 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     # Every K run was solved for the probes above (`solved`); the elastic K = 0 joins them here.
     keys = [(pair.geometry, v) for pair in case.pairs for v in allowed[pair.geometry]]
     Ks = {key: case.pair(key[0]).dissipation_parameter(key[1]) for key in keys}
-    missing = sorted({K for K in Ks.values() if K not in solved} | ({0.0} - set(solved)))
-    solved = {**solved, **dict(zip(missing, solve_collisions(missing).rows()))} if missing else solved
+    solved = _with_solutions({*Ks.values(), 0.0}, solved)
     reference, elastic = {key: solved[K] for key, K in Ks.items()}, solved[0.0]
     builds = build_codes(engines)
     matched = ({code: matched_restitution(code, match_K) for code in set(builds.values())
@@ -321,11 +329,9 @@ def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, veloc
     # The reference at every run's own K in one batch, handed on as run_engine's plan does: a
     # run solved its K itself each time it was asked for its steps (72 one-K solves for the
     # 36 runs of a convergence sweep). K > 10 and K = 0 need none (RunSpec.steps).
-    solved = dict(solved or {})
-    missing = sorted({r.K for r in runs if 0.0 < r.K <= 10.0} - set(solved))
-    if missing:
-        solved.update(zip(missing, solve_collisions(missing).rows()))
-    return [replace(r, reference=solved[r.K]) if r.K in solved and 0.0 < r.K <= 10.0 else r for r in runs]
+    needed = {r.K for r in runs if 0.0 < r.K <= 10.0}
+    solved = _with_solutions(needed, solved)
+    return [replace(r, reference=solved[r.K]) if r.K in needed else r for r in runs]
 
 
 def references_of(runs: list[RunSpec]) -> dict:
