@@ -81,6 +81,8 @@ def read_dump(path) -> tuple[dict, dict[str, np.ndarray]]:
         raise DumpError(f"{path}: not a hertz-dem-dump version {FORMAT_VERSION} file")
     if body_start >= len(lines) or tuple(lines[body_start].split(",")) != COLUMNS:
         raise DumpError(f"{path}: expected the column line {','.join(COLUMNS)}")
+    if not any(line.strip() for line in lines[body_start + 1:]):
+        raise DumpError(f"{path}: no data rows")  # before numpy, which would warn about it too
     try:
         data = np.loadtxt(lines[body_start + 1:], delimiter=",", ndmin=2)
     except ValueError as err:

@@ -7,6 +7,7 @@ that writes its pid (the process group: the runners start a new session) and mak
 engine hang or crash in the second of three runs."""
 
 import dataclasses
+import math
 import shutil
 import stat
 import time
@@ -108,6 +109,22 @@ def assert_stopped_in_second_run(sweep, specs, workdir: Path, engine: str, build
     return printed, message
 
 
+#: The time limit of the crash tests: a crash ends the sweep at once, so the limit only bounds a
+#: test whose engine failed to crash, and can be generous on a loaded machine.
+CRASH_FLOOR_S = 120.0
+
+
+def hang_floor(run_sweep, first: RunSpec, workdir: Path, at_least: float) -> float:
+    """The time limit of a hang test: `at_least`, or five times one real sweep of `first` alone
+    (start-up included) on this machine now, whichever is longer, in whole seconds. The hung sweep
+    must reach its second run before the limit, and a fixed few seconds did not on a loaded CI
+    machine (LIGGGHTS and YADE had not printed their first run after 3 and 10 s)."""
+    started = time.monotonic()
+    sweep = run_sweep([first], workdir)
+    assert list(sweep.dumps) == [first.name], sweep.failures
+    return float(max(at_least, math.ceil(5 * (time.monotonic() - started))))
+
+
 @pytest.fixture
 def no_expected_cost(monkeypatch):
     """Make the time limit the floor, so that a hung engine is killed after a few seconds."""
@@ -121,13 +138,13 @@ def test_hung_script_engine_is_killed_with_its_children(tmp_path, engine, no_exp
     require_engine(exe, package)
     wrapper = script_engine_wrapper(tmp_path, shutil.which(exe), INJECT["hang"])
     specs = three_runs(engine)
-    floor = 3.0
+    floor = hang_floor(runner, specs[0], tmp_path / "timing", at_least=3.0)
     started = time.monotonic()
     sweep = runner(specs, tmp_path / "out", executable=wrapper, timeout_floor_s=floor)
     assert time.monotonic() - started < floor + 30
     build = "LIGGGHTS (Version LIGGGHTS-PUBLIC" if engine == "liggghts" else "LAMMPS (29 Sep 2021"
     printed, _ = assert_stopped_in_second_run(sweep, specs, tmp_path / "out", engine, build,
-                                              "did not finish within its time limit of 3 s", "shell sleep 1000")
+                                              f"did not finish within its time limit of {floor:.3g} s", "shell sleep 1000")
     assert "shell sleep 1000" in printed  # the engine echoed the command it hung in
     assert_group_gone(tmp_path / "wrapper.pid")
 
@@ -138,7 +155,7 @@ def test_crashed_script_engine_names_the_signal_and_leaves_no_dump(tmp_path, eng
     require_engine(exe, package)
     wrapper = script_engine_wrapper(tmp_path, shutil.which(exe), INJECT["crash"])
     specs = three_runs(engine)
-    sweep = runner(specs, tmp_path / "out", executable=wrapper, timeout_floor_s=2.0)
+    sweep = runner(specs, tmp_path / "out", executable=wrapper, timeout_floor_s=CRASH_FLOOR_S)
     build = "LIGGGHTS (Version LIGGGHTS-PUBLIC" if engine == "liggghts" else "LAMMPS (29 Sep 2021"
     printed, _ = assert_stopped_in_second_run(sweep, specs, tmp_path / "out", engine, build,
                                               "exited with signal SIGSEGV", "End of error message")
@@ -173,11 +190,11 @@ def test_hung_or_crashed_yade(tmp_path, monkeypatch, how, no_expected_cost):
     require_engine("yade", "yade")
     specs = three_runs("yade")
     monkeypatch.setattr(yade, "DRIVER", driver_stopping_in(yade, tmp_path, specs[1].name, how))
-    floor = 10.0  # YADE takes ~1.5 s to start
+    floor = hang_floor(yade.run_yade, specs[0], tmp_path / "timing", at_least=10.0) if how == "hang" else CRASH_FLOOR_S
     started = time.monotonic()
     sweep = yade.run_yade(specs, tmp_path / "out", executable=driven_wrapper(tmp_path, shutil.which("yade")), timeout_floor_s=floor)
     assert time.monotonic() - started < floor + 30
-    what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV"
+    what = f"did not finish within its time limit of {floor:.3g} s" if how == "hang" else "exited with signal SIGSEGV"
     assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "yade", "YADE 2023.02a", what, f"RUN {specs[1].name}")
     assert_group_gone(tmp_path / "wrapper.pid")
 
@@ -189,11 +206,11 @@ def test_hung_or_crashed_kratos(tmp_path, monkeypatch, how, no_expected_cost):
     specs = [RunSpec(CASE, "kratos", "elastic", steel_pair(g), v, time_step_factor=200)  # Kratos has no viscoelastic law
              for g, v in (("sphere-plane", VELOCITY), ("sphere-sphere", VELOCITY), ("sphere-plane", 2 * VELOCITY))]
     monkeypatch.setattr(kratos, "DRIVER", driver_stopping_in(kratos, tmp_path, specs[1].name, how))
-    floor = 10.0  # Kratos takes ~1 s to import
+    floor = hang_floor(kratos.run_kratos, specs[0], tmp_path / "timing", at_least=10.0) if how == "hang" else CRASH_FLOOR_S
     started = time.monotonic()
     sweep = kratos.run_kratos(specs, tmp_path / "out", executable=driven_wrapper(tmp_path, kratos.EXECUTABLE), timeout_floor_s=floor)
     assert time.monotonic() - started < floor + 30
-    what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV"
+    what = f"did not finish within its time limit of {floor:.3g} s" if how == "hang" else "exited with signal SIGSEGV"
     assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "kratos", "KratosMultiphysics 10.4.", what,
                                  f"RUN {specs[1].name}")
     assert_group_gone(tmp_path / "wrapper.pid")
@@ -235,12 +252,12 @@ def test_hung_or_crashed_esys(tmp_path, monkeypatch, how, no_expected_cost):
     specs = [RunSpec(CASE, "esys", "viscoelastic_clipped", s.pair, VELOCITY, time_step_factor=200)
              for s in three_runs("liggghts")]
     monkeypatch.setattr(esys, "DRIVER", driver_stopping_in(esys, tmp_path, specs[1].name, how))
-    floor = 10.0  # ESyS takes ~1 s to start
+    floor = hang_floor(esys.run_esys, specs[0], tmp_path / "timing", at_least=10.0) if how == "hang" else CRASH_FLOOR_S
     started = time.monotonic()
     sweep = esys.run_esys(specs, tmp_path / "out", executable=esys_wrapper(tmp_path), timeout_floor_s=floor)
     assert time.monotonic() - started < floor + 30
     # A crashed rank: mpirun returns its status, 128 + 11, and prints why it aborted the job.
-    what = "did not finish within its time limit of 10 s" if how == "hang" else "exited with signal SIGSEGV (status 139)"
+    what = f"did not finish within its time limit of {floor:.3g} s" if how == "hang" else "exited with signal SIGSEGV (status 139)"
     assert_stopped_in_second_run(sweep, specs, tmp_path / "out", "esys", "ESyS-Particle 2.3.4", what,
                                  f"RUN {specs[1].name}" if how == "hang" else "Exit code:    139")
     assert_group_gone(tmp_path / "wrapper.pid")
