@@ -13,12 +13,11 @@ def convergence_plan_of(code):
 
 
 def convergence_priority_of(code):
-    """1 + 10 x the expected seconds of `code`'s convergence sweep (engines.codes cost model), as
-    run_engine's priority: these are the study's longest engine jobs (ESyS's ~1 min expected),
-    and convergence_summary, which waits for the last of them, lands on the study's tail when
-    they start late."""
+    """run_engine's priority (engine_job_priority) for `code`'s convergence sweep: these are the
+    study's longest engine jobs (ESyS's ~1 min expected), and convergence_summary, which waits
+    for the last of them, lands on the study's tail when they start late."""
     runs = convergence_plan_of(code)
-    return 1 + int(10 * CODES[code].expected_seconds(len(runs), sum(r.steps() for r in runs)))
+    return engine_job_priority(code, len(runs), sum(r.steps() for r in runs))
 
 
 rule convergence_runs:

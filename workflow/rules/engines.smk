@@ -10,18 +10,39 @@ rule plan:
     script: "../scripts/plan_case.py"
 
 
+# Job priorities: Snakemake starts the highest-priority ready job that fits the free cores.
+#: A job of several processes (ESyS's two MPI ranks, `threads` = processes) needs every core free
+#: at once, and the job selection finds them free only at the study's start: later, each job that
+#: ends frees one core, which a ready single-process job takes. So such jobs waited for all the
+#: others and ran alone on the study's tail, while the case summaries, the summary and the report
+#: behind them ran on one core. They are ready from the start (run_engine takes its runs from the
+#: workflow's plan, not from plan.json) and go first.
+ALL_CORES_FIRST = 1_000_000
+#: The jobs between a case's last engine run and the report (the case's summary, the study's
+#: summary, Fig. 3): ahead of any single-process engine job, so that they run as soon as they can
+#: while the post-processing that waits for no engine (priority 0: calibration, paper figures,
+#: closed forms) fills the other core on the study's tail.
+CRITICAL_PATH = 100_000
+
+
+def engine_job_priority(code, n_runs, steps):
+    """Priority of an engine job of `n_runs` runs of `steps` time steps in all of engine `code`:
+    1 + 10 x its expected seconds (engines.codes cost model), longest first, so that two lanes
+    finish together; plus ALL_CORES_FIRST for a code of several processes."""
+    first = ALL_CORES_FIRST if CODES[code].processes > 1 else 0
+    return first + 1 + int(10 * CODES[code].expected_seconds(n_runs, steps))
+
+
 def engine_priority(wildcards):
-    """Longest expected sweep first (engines.codes cost model, from the plan's steps): two
-    lanes finish together when the long jobs start early, not last."""
+    """run_engine's priority: engine_job_priority of the case's runs in the build."""
     runs = [r for r in PLANS[wildcards.case]["runs"] if r["build"] == wildcards.build]
-    return 1 + int(10 * CODES[BUILDS[wildcards.build].code].expected_seconds(len(runs), sum(r["steps"] for r in runs)))
+    return engine_job_priority(BUILDS[wildcards.build].code, len(runs), sum(r["steps"] for r in runs))
 
 
 rule run_engine:
     """Every run of one case in one process of one engine build: one dump per run in runs/, and the manifest
     (dumps with sha256, failed runs)."""
     input:
-        plan="results/{case}/plan.json",
         case=lambda w: CASES[w.case],
         decks=lambda w: DECKS[BUILDS[w.build].code],
     output:
@@ -29,7 +50,10 @@ rule run_engine:
         runs=directory("results/{case}/{build}/runs"),
     log: "logs/{case}/{build}.log"
     benchmark: "benchmarks/{case}/{build}.tsv"
-    params: settings=SETTINGS, build=lambda w: build_params(w.build)
+    # The plan from the workflow (what the plan rule writes to plan.json), not the file: the job
+    # is then ready when the study starts (ALL_CORES_FIRST). A changed plan changes these params,
+    # and Snakemake reruns the job.
+    params: settings=SETTINGS, build=lambda w: build_params(w.build), listing=lambda w: PLANS[w.case]
     threads: lambda w: CODES[BUILDS[w.build].code].processes  # ESyS: two MPI ranks
     priority: engine_priority
     resources: runtime=30, mem_mb=2000
@@ -44,5 +68,6 @@ rule case_summary:
         runs=expand("results/{{case}}/{build}/runs", build=BUILD_IDS),
     output: "results/{case}/summary.csv"
     log: "logs/{case}/summary.log"
+    priority: CRITICAL_PATH
     resources: runtime=10, mem_mb=2000
     script: "../scripts/case_summary.py"

@@ -25,6 +25,7 @@ rule paper_figure_3:
     output: png="results/paper/fig3_eps_collapse.png"
     log: "logs/paper/figure_3.log"
     params: figure=3
+    priority: CRITICAL_PATH  # between the summary and the report
     script: "../scripts/paper_figure.py"
 
 

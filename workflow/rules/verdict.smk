@@ -5,6 +5,7 @@ rule summary:
     input: expand("results/{case}/summary.csv", case=CASES)
     output: "results/summary.csv"
     log: "logs/summary.log"
+    priority: CRITICAL_PATH
     script: "../scripts/study_summary.py"
 
 

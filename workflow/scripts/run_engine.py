@@ -7,8 +7,6 @@ the gate, which names it, so that the study still writes its report and JUnit XM
 engine stops the rule at once (that is set-up, not a verdict).
 """
 
-import json
-
 from common import start_rule
 from engines import GATED_LAWS, run_sweep
 from engines.builds import Build
@@ -18,7 +16,7 @@ from postprocess.run_manifest import write_manifest
 log = start_rule(snakemake)
 s = snakemake.params.settings
 build = Build(**snakemake.params.build)
-listing = json.load(open(snakemake.input.plan))
+listing = snakemake.params.listing  # the case's plan, as the plan rule writes it to plan.json
 runs = runs_from_listing(None, listing, build.id)  # the plan's runs and pairs, solved there: no case file read
 case_name = listing["case"]
 log.info("%s: %d runs of build %s (%s) into %s", case_name, len(runs), build.id, build.executable,
