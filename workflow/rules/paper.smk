@@ -1,5 +1,7 @@
 # Reproducing the paper: its claims, Table 1 and Figs. 1, 3, 4 and 5 (results/paper/).
 
+from functools import lru_cache
+
 from engines.plan import plan_at_velocity, references_of
 
 
@@ -29,8 +31,10 @@ rule paper_figure_3:
     script: "../scripts/paper_figure.py"
 
 
+@lru_cache(maxsize=None)
 def energy_references():
-    """The reference rows of Fig. 4's DEM runs, solved in the workflow (one batch), handed to the job."""
+    """The reference rows of Fig. 4's DEM runs, solved in the workflow (one batch) once, however
+    often Snakemake evaluates the param (as convergence_plan_of), handed to the job."""
     e = config["paper"]["energy"]
     return references_of(plan_at_velocity(load_case(e["case"]), BUILDS[BUILD_IDS[0]].code, e["K"],
                                           [config["time_step_factor"]], e["velocity"], "energy"))
