@@ -38,17 +38,19 @@ Cost. A K takes 19 (K <= 1) to 42 (K = 10) steps; at large K the contact ends in
 (eps ~ 1e-4), where phase C's steps shrink towards u = 0. solve_batch advances LANES = 8 K at
 once (`_lanes`, K sorted so that neighbours take similar steps): each tick computes the eight
 lanes' coefficients in one vectorised call (`_coefficients_u_lanes`, generated from the scalar
-recurrences: about 40 ns (u) and 70 ns (t) a lane against 190 and 360 ns scalar), then steps each
-lane on its own (step size, evaluation at the step end, root checks: about 200 ns). Every lane
-does exactly the scalar arithmetic, so a batch equals `solve_one` K by K to the bit. A lane that
-has finished idles until its group's slowest K is done. A group of at most LANES/2 K (a single K,
-a short last group) goes through the scalar path instead. The functions that only borrow arrays
-are compiled without numba's reference counting (`_jit`). Measured by `make bench`
-(benchmarks/reference_solver.py). Kept out on purpose: fastmath reassociation (results would
-depend on LLVM's vectorisation), a looser TOL (1e-15: ~9 % faster, ~6x further from mpmath),
-vectorising the step size and the evaluation over the lanes too (what it would save at most,
-the copy of each lane's coefficients into c, measured 6 %: not worth a second copy of the step
-logic), and Newton's method for the roots that are linear in the state (3 to 6 iterations
+recurrences: about 40 ns (u) and 70 ns (t) a lane against 190 and 360 ns scalar), then the
+eight step sizes and step-end states in two more (`_steps_lanes`, `_horner3_lanes`: the scalar
+`_step_size` and `_horner3` written over the lanes, for the regular case where every component's
+last two coefficients are nonzero), then each lane's phase end and root check on its own
+(`_lane_step`, inlined by numba with the functions it calls at every step: `_jit_inline`). Every
+lane does exactly the scalar arithmetic, so a batch equals `solve_one` K by K to the bit. A lane
+that has finished idles until its group's slowest K is done (K uniform in [0, 10]: 0.2 % of the
+lane steps). A group of at most LANES/2 K (a single K, a short last group) goes through the
+scalar path instead. The functions that only borrow arrays are compiled without numba's
+reference counting (`_jit`). Measured by `make bench` (benchmarks/reference_solver.py). Kept
+out on purpose: fastmath reassociation (results would depend on LLVM's vectorisation), a looser
+TOL (1e-15: ~9 % faster, ~6x further from mpmath), ORDER 18 or 26 (no faster than 22, measured),
+and Newton's method for the roots that are linear in the state (3 to 6 iterations
 against Brent's 6 to 9, but each costs two Horner chains: no faster).
 """
 
@@ -90,6 +92,12 @@ _jit_alloc = njit(cache=True, error_model="numpy", fastmath=False)
 # (_nrt=False), they skip the atomic increment and decrement of every array argument at every
 # call, a few ns each, which a step pays for c and y in four or five calls.
 _jit = njit(cache=True, error_model="numpy", fastmath=False, _nrt=False)
+# Inlined into their callers by numba itself (in its IR, before LLVM): the functions a lane calls
+# at every step. numba compiles each function on its own, and a call between two of them passes
+# every array as its fields and checks a status on return: about 30 % of the batch's time before
+# these three were inlined (measured). Inlining more (_g, _state) measured no faster, and every
+# inlined function is compiled again at each call site.
+_jit_inline = njit(cache=True, error_model="numpy", fastmath=False, _nrt=False, inline="always")
 # Fused multiply-add allowed (one rounding instead of two, no reordering): the recurrences and
 # Horner's scheme are chains of multiply-adds, whose latency is the cost of a step.
 _jit_fma = njit(cache=True, error_model="numpy", fastmath={"contract"}, _nrt=False)
@@ -102,6 +110,13 @@ _coefficients_u_lanes = _jit_fma(_coefficients.coefficients_u_lanes)
 _coefficients_t_lanes = _jit_fma(_coefficients.coefficients_t_lanes)
 LANES, B_W, B_Y, B_K, B_C, B_SIZE = (_coefficients.LANES, _coefficients.B_W, _coefficients.B_Y,
                                      _coefficients.B_K, _coefficients.B_C, _coefficients.B_SIZE)
+# The lanes' step slots of the buffer b, after the coefficient functions' (B_SIZE), per lane l at
+# b[S_* + l]: the phase's stop, direction (+1 or -1) and whether it ends at its stop (1.0 or 0.0),
+# set by _lanes for each phase; the step size h (S_HR, nan if the lane's step needs the scalar
+# _step_size: see _steps_lanes), the step h (S_H, landing on the stop if it reaches it), its end w
+# (S_WN) and the state there, component i at b[S_Y + i LANES + l], written by _steps_lanes.
+S_STOP, S_DIR, S_SPAN, S_HR, S_H, S_WN, S_Y = (B_SIZE + k * LANES for k in range(7))
+S_SIZE = S_Y + 3 * LANES
 
 
 if numba_config.DISABLE_JIT:  # NUMBA_DISABLE_JIT=1 (debugging): intrinsics cannot run as Python
@@ -326,7 +341,7 @@ def _phase_begin(kind, y, K, p):
         p[P_G] = _g(int(p[P_ROOT]), x, v, K)
 
 
-@_jit
+@_jit_inline
 def _phase_ended(kind, y, p, samples, out):
     """Whether the phase has reached its end: w = stop (END_SPAN), x <= level (END_X) or v = 0
     (END_V). At its end, the samples a phase of zero length did not reach are its start state."""
@@ -344,6 +359,16 @@ def _phase_ended(kind, y, p, samples, out):
 
 
 @_jit
+def _scaled_step_size(kind, y, K, c):
+    """`_step_size` with the phase's component scales from the state y at the step start: phase
+    u |v|, max(|tau|, 1), max(|D|, |K|); phase t x, max(|v|, x), max(|D|, |K|) (v is 0 at the
+    maximum compression: its scale is x's, both in units of delta_e)."""
+    if kind == KIND_U:
+        return _step_size(c, abs(y[0]), max(abs(y[1]), 1.0), max(abs(y[2]), abs(K)))
+    return _step_size(c, y[0], max(abs(y[1]), y[0]), max(abs(y[2]), abs(K)))
+
+
+@_jit
 def _phase_step(kind, y, K, c, p, samples, out):
     """One step of the phase in p, in place, from the state y at w = p[P_W], given the Taylor
     coefficients c there (`_coefficients`). Returns the status (STEP_FAILURE: the polynomial is
@@ -352,23 +377,19 @@ def _phase_step(kind, y, K, c, p, samples, out):
     The step ends at the phase's stop if it reaches it (END_SPAN), or at the zero of v if it
     passes it (END_V: located on the step polynomial, where the phase ends with v = 0). The first
     zero from above of the ROOT_* function along the phase is bracketed on the step ends and
-    refined on the step polynomial, with the state there. At `samples` (increasing fractions s in
-    [0, 1] of the phase, w = start + s (stop - start); only with END_SPAN) the step polynomial is
-    evaluated into out (m, 4): x, v, tau, D."""
-    start, stop, end, root = p[P_START], p[P_STOP], int(p[P_END]), int(p[P_ROOT])
-    w = p[P_W]
+    refined on the step polynomial, with the state there (`_step_end`). At `samples` (increasing
+    fractions s in [0, 1] of the phase, w = start + s (stop - start); only with END_SPAN) the
+    step polynomial is evaluated into out (m, 4): x, v, tau, D."""
     p[P_STEPS] += 1.0
     if p[P_STEPS] > MAX_STEPS:
         return STEP_FAILURE
-    direction = 1.0 if stop >= start else -1.0
-    v_prev = y[1]
-    if kind == KIND_U:
-        h = _step_size(c, abs(y[0]), max(abs(y[1]), 1.0), max(abs(y[2]), abs(K)))
-    else:  # v is 0 at the maximum compression: its scale is x's (both in units of delta_e)
-        h = _step_size(c, y[0], max(abs(y[1]), y[0]), max(abs(y[2]), abs(K)))
+    h = _scaled_step_size(kind, y, K, c)
     if not h > 0.0:  # nan or zero: the polynomial is degenerate
         return STEP_FAILURE
-    last = end == END_SPAN and h >= abs(stop - w)
+    start, stop, w = p[P_START], p[P_STOP], p[P_W]
+    # The same arithmetic as _steps_lanes' (which the lanes' bit-identity test holds it to).
+    direction = 1.0 if stop >= start else -1.0
+    last = p[P_END] == END_SPAN and h >= abs(stop - w)
     h = stop - w if last else direction * h
     w_new = stop if last else w + h
     k, m = int(p[P_SAMPLE]), len(samples)
@@ -381,14 +402,40 @@ def _phase_step(kind, y, K, c, p, samples, out):
             kind, wk, _horner(c, 0, hk), _horner(c, 1, hk), _horner(c, 2, hk))
         k += 1
     p[P_SAMPLE] = k
+    v_prev = y[1]
     _horner3(c, h, y)
-    if end == END_V and y[1] <= 0.0:  # the step passed the zero of v: the phase ends there
-        theta = 1.0 if y[1] == 0.0 else _brent(kind, ROOT_VELOCITY, c, w, h, K, v_prev, y[1])
+    return _step_end(kind, y, K, c, p, h, w_new, v_prev, y, -1)
+
+
+@_jit
+def _lane_coefficients(b, lane, c):
+    """Lane `lane`'s Taylor coefficients in the lanes' buffer b into c (3, ORDER+1)."""
+    for i in range(3):
+        for n in range(ORDER + 1):
+            c[i, n] = b[B_C + (i * (ORDER + 1) + n) * LANES + lane]
+
+
+@_jit_inline
+def _step_end(kind, y, K, c, p, h, w_new, v_prev, b, lane):
+    """The end of a step of length h from w = p[P_W] to w_new, y the state there (the step
+    polynomial at h; v was v_prev at the start): the END_V phase end and the root search of
+    `_phase_step`; p[P_W] = w_new. The step's coefficients are in c, or (lane >= 0) still in the
+    lanes' buffer b, copied into c when a root is to be refined on them (a few steps a phase).
+    Returns the status."""
+    w = p[P_W]
+    if p[P_END] == END_V and y[1] <= 0.0:  # the step passed the zero of v: the phase ends there
+        theta = 1.0
+        if y[1] != 0.0:
+            if lane >= 0:
+                _lane_coefficients(b, lane, c)
+                lane = -1
+            theta = _brent(kind, ROOT_VELOCITY, c, w, h, K, v_prev, y[1])
         if theta < 1.0:
             h = theta * h
             w_new = w + h
             y[0], y[2] = _horner(c, 0, h), _horner(c, 2, h)
         y[1] = 0.0
+    root = int(p[P_ROOT])
     if root != ROOT_NONE and p[P_FOUND] == 0.0:
         x, v, _, _ = _state(kind, w_new, y[0], y[1], y[2])
         g_new = _g(root, x, v, K)
@@ -397,6 +444,8 @@ def _phase_step(kind, y, K, c, p, samples, out):
             if g_new == 0.0:  # the zero is the step end: take its state as it is
                 theta = 1.0
             else:
+                if lane >= 0:
+                    _lane_coefficients(b, lane, c)
                 theta = _brent(kind, root, c, w, h, K, p[P_G], g_new)
             if theta == 1.0:
                 p[P_XR], p[P_VR], p[P_TR], p[P_DR] = _state(kind, w_new, y[0], y[1], y[2])
@@ -548,14 +597,107 @@ def _phases(K, samples, out, c, m, y, p):
 
 
 @_jit
+def _steps_lanes(b, kind):
+    """The step of every lane from its coefficients and state in b: the step size of
+    `_scaled_step_size` (S_HR), and the step (S_H) and its end (S_WN) of `_phase_step`.
+
+    Why: a loop over the lanes with its inputs and outputs in b at constant offsets is vectorised
+    by LLVM (as the coefficient functions are), about four lanes' step sizes for one scalar's.
+    It covers the regular case alone, where every component has a positive scale and its last
+    two coefficients are nonzero and finite: then `_step_size` takes the same six radius
+    estimates, whose minimum does not depend on their order, and each value here is the scalar
+    path's to the bit (the same operations, no contraction: `_jit`). Otherwise S_HR is nan and the
+    lane's step goes through `_phase_step` (`_lane_step`): at K = 0 near u = 0, where most
+    coefficients vanish, and for a lane that has failed or ended its phase."""
+    N = ORDER
+    j0, j1 = N, N - 1
+    for l in range(LANES):
+        y0, y1, y2, K = b[B_Y + l], b[B_Y + LANES + l], b[B_Y + 2 * LANES + l], b[B_K + l]
+        if kind == KIND_U:
+            s0, s1 = abs(y0), max(abs(y1), 1.0)
+        else:
+            s0, s1 = y0, max(abs(y1), y0)
+        s2 = max(abs(y2), abs(K))
+        a0, a1 = abs(b[B_C + j0 * LANES + l]), abs(b[B_C + j1 * LANES + l])
+        b0, b1 = abs(b[B_C + (N + 1 + j0) * LANES + l]), abs(b[B_C + (N + 1 + j1) * LANES + l])
+        d0 = abs(b[B_C + (2 * (N + 1) + j0) * LANES + l])
+        d1 = abs(b[B_C + (2 * (N + 1) + j1) * LANES + l])
+        regular = ((s0 > 0.0) & (s1 > 0.0) & (s2 > 0.0) & (a0 > 0.0) & (a1 > 0.0) & (b0 > 0.0)
+                   & (b1 > 0.0) & (d0 > 0.0) & (d1 > 0.0) & (a0 < np.inf) & (a1 < np.inf)
+                   & (b0 < np.inf) & (b1 < np.inf) & (d0 < np.inf) & (d1 < np.inf))
+        l0, l1, l2 = _log2_approx(s0), _log2_approx(s1), _log2_approx(s2)
+        r = (l0 - _log2_approx(a0)) * (1.0 / j0)
+        q = (l0 - _log2_approx(a1)) * (1.0 / j1)
+        r = q if q < r else r
+        q = (l1 - _log2_approx(b0)) * (1.0 / j0)
+        r = q if q < r else r
+        q = (l1 - _log2_approx(b1)) * (1.0 / j1)
+        r = q if q < r else r
+        q = (l2 - _log2_approx(d0)) * (1.0 / j0)
+        r = q if q < r else r
+        q = (l2 - _log2_approx(d1)) * (1.0 / j1)
+        r = q if q < r else r
+        h = _exp2_approx(r + LOG2_TOL / N) if regular else np.nan
+        w, stop, direction = b[B_W + l], b[S_STOP + l], b[S_DIR + l]
+        last = (b[S_SPAN + l] == 1.0) & (h >= abs(stop - w))
+        step = stop - w if last else direction * h
+        b[S_HR + l], b[S_H + l] = h, step
+        b[S_WN + l] = stop if last else w + step
+
+
+@_jit_fma
+def _horner3_lanes(b):
+    """`_horner3` for every lane: its three components at its step S_H into S_Y (vectorised
+    like _steps_lanes; the same operations and contractions as the scalar function)."""
+    N = ORDER
+    top = N - (N % 2)
+    C0, C1, C2 = B_C, B_C + (N + 1) * LANES, B_C + 2 * (N + 1) * LANES
+    for l in range(LANES):
+        h = b[S_H + l]
+        h2 = h * h
+        e0, e1, e2 = b[C0 + top * LANES + l], b[C1 + top * LANES + l], b[C2 + top * LANES + l]
+        o0 = o1 = o2 = 0.0
+        if N % 2 == 1:
+            o0, o1, o2 = b[C0 + N * LANES + l], b[C1 + N * LANES + l], b[C2 + N * LANES + l]
+        for n in range(top - 2, -1, -2):
+            e0 = e0 * h2 + b[C0 + n * LANES + l]
+            e1 = e1 * h2 + b[C1 + n * LANES + l]
+            e2 = e2 * h2 + b[C2 + n * LANES + l]
+            o0 = o0 * h2 + b[C0 + (n + 1) * LANES + l]
+            o1 = o1 * h2 + b[C1 + (n + 1) * LANES + l]
+            o2 = o2 * h2 + b[C2 + (n + 1) * LANES + l]
+        b[S_Y + l], b[S_Y + LANES + l], b[S_Y + 2 * LANES + l] = e0 + h * o0, e1 + h * o1, e2 + h * o2
+
+
+@_jit_inline
+def _lane_step(kind, y, K, c, p, b, lane, samples, out):
+    """`_phase_step` for lane `lane` of the lanes' buffer b, whose step _steps_lanes and
+    _horner3_lanes have computed (or, where S_HR is nan, _phase_step itself on a copy of the
+    lane's coefficients). The state y and the phase p are the lane's own."""
+    if not b[S_HR + lane] == b[S_HR + lane]:  # nan: not the regular case
+        _lane_coefficients(b, lane, c)
+        return _phase_step(kind, y, K, c, p, samples, out)
+    p[P_STEPS] += 1.0
+    if p[P_STEPS] > MAX_STEPS:
+        return STEP_FAILURE
+    if not b[S_HR + lane] > 0.0:  # zero: the polynomial is degenerate
+        return STEP_FAILURE
+    v_prev = y[1]
+    y[0], y[1], y[2] = b[S_Y + lane], b[S_Y + LANES + lane], b[S_Y + 2 * LANES + lane]
+    return _step_end(kind, y, K, c, p, b[S_H + lane], b[S_WN + lane], v_prev, b, lane)
+
+
+@_jit
 def _lanes(Ks, c, ms, ys, ps, b, status, stepping, samples, out):
     """The four phases for LANES K values Ks at once, recorded in ms (LANES, M_SIZE); status per
-    lane (stepping (LANES,) is scratch: the lanes still in their phase at a tick). The lanes go through the phases together, each phase until its last lane has ended; a
+    lane (stepping (LANES,) is scratch: the lanes still in their phase at a tick). The lanes go
+    through the phases together, each phase until its last lane has ended; a
     step computes the Taylor coefficients of all lanes in one call of the lane functions
-    (vectorised: see _generate_coefficients._lanes), then each lane's step on its own
-    (`_phase_step`, on a copy of its coefficients). A lane that has ended its phase, or failed,
-    waits, its coefficients computed but not used: lanes of near-equal K take near-equal steps
-    (solve_batch sorts the K).
+    (vectorised: see _generate_coefficients._lanes), their step sizes and step ends in two more
+    (`_steps_lanes`, `_horner3_lanes`), then each lane's phase end and root search on its own
+    (`_lane_step`). A lane that has ended its phase, or failed, waits, its step computed but not
+    used: lanes of near-equal K take near-equal steps (solve_batch sorts the K). The lanes have
+    no trajectory samples (samples is empty).
 
     The arithmetic of every lane is `_phases`': the results are bit for bit the same."""
     for l in range(LANES):
@@ -566,6 +708,9 @@ def _lanes(Ks, c, ms, ys, ps, b, status, stepping, samples, out):
         for l in range(LANES):
             kind = _phase_setup(ph, ms[l], ys[l], ps[l])
             _phase_begin(kind, ys[l], Ks[l], ps[l])
+            b[S_STOP + l] = ps[l, P_STOP]
+            b[S_DIR + l] = 1.0 if ps[l, P_STOP] >= ps[l, P_START] else -1.0
+            b[S_SPAN + l] = 1.0 if ps[l, P_END] == END_SPAN else 0.0
         while True:
             going = 0
             for l in range(LANES):
@@ -580,13 +725,11 @@ def _lanes(Ks, c, ms, ys, ps, b, status, stepping, samples, out):
                 _coefficients_u_lanes(b)
             else:
                 _coefficients_t_lanes(b)
+            _steps_lanes(b, kind)
+            _horner3_lanes(b)
             for l in range(LANES):
-                if not stepping[l]:
-                    continue
-                for i in range(3):
-                    for n in range(ORDER + 1):
-                        c[i, n] = b[B_C + (i * (ORDER + 1) + n) * LANES + l]
-                status[l] = _phase_step(kind, ys[l], Ks[l], c, ps[l], samples, out)
+                if stepping[l]:
+                    status[l] = _lane_step(kind, ys[l], Ks[l], c, ps[l], b, l, samples, out)
         for l in range(LANES):
             if status[l] == OK:
                 _phase_record(ph, ms[l], ys[l], ps[l])
@@ -604,7 +747,7 @@ def solve_batch(K):
     order = np.argsort(K, kind="mergesort")
     c = np.empty((3, ORDER + 1))
     ms, ys, ps = np.empty((LANES, M_SIZE)), np.empty((LANES, 3)), np.empty((LANES, P_SIZE))
-    b, Ks, st = np.zeros(B_SIZE), np.empty(LANES), np.empty(LANES, dtype=np.int64)
+    b, Ks, st = np.zeros(S_SIZE), np.empty(LANES), np.empty(LANES, dtype=np.int64)
     stepping = np.empty(LANES, dtype=np.bool_)
     samples, out = np.empty((4, 0)), np.empty((4, 0, 4))  # no trajectory: no samples per phase
     row = np.empty(N_OUT)

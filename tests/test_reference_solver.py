@@ -247,3 +247,55 @@ def test_generated_coefficients_are_current():
     text = Path(_coefficients.__file__).read_text()
     assert text == _generate_coefficients.source()
     assert _taylor.COEFFICIENTS_SHA256 == _generate_coefficients.digest(text)
+
+
+@pytest.mark.parametrize("kind", ["u", "t"])
+def test_lane_step_sizes_and_step_ends_are_the_scalar_ones_to_the_bit(kind):
+    """_steps_lanes and _horner3_lanes compute eight lanes' steps in one vectorised loop; in the
+    regular case each lane's step size, step and step-end state must be the scalar
+    `_scaled_step_size` / `_horner3`'s to the bit, and a lane outside it must be handed back to
+    the scalar path (nan step size) rather than stepped on a guess: K = 0, where D stays 0 (its
+    scale is 0, a component the scalar step size skips; at u = 0 v's last coefficients vanish
+    too), and a lane whose state is not finite."""
+    from reference import collision_ode
+
+    T = collision_ode._kernel()
+    rng = np.random.default_rng(11)
+    Ks = np.array([0.0, 0.05, 0.3, 1.0, 2.5, 5.0, 9.9, 0.7])
+    b = np.zeros(T.S_SIZE)
+    states = []
+    for l, K in enumerate(Ks):
+        if kind == "u":  # (v, tau, D) at u; lane 0 at u = 0, the start of phase A
+            w = 0.0 if l == 0 else rng.uniform(0.1, 0.8)
+            y = np.array([1.0, 0.0, 0.0]) if l == 0 else np.array([rng.uniform(0.2, 0.9), rng.uniform(0.1, 1.0), rng.uniform(0, 0.3) * K])
+        else:  # (x, v, D) at tau
+            w, y = rng.uniform(0.5, 2.0), np.array([rng.uniform(0.3, 0.9), rng.uniform(-0.5, 0.5), rng.uniform(0, 0.3) * K])
+        if l == 7:
+            y[1] = np.nan  # a failed lane: its neighbours must not notice
+        states.append((w, y))
+        b[T.B_W + l], b[T.B_K + l] = w, K
+        for i in range(3):
+            b[T.B_Y + i * T.LANES + l] = y[i]
+        b[T.S_STOP + l], b[T.S_DIR + l], b[T.S_SPAN + l] = (w + 0.05, 1.0, 1.0) if l % 2 else (np.inf, 1.0, 0.0)
+    k = T.KIND_U if kind == "u" else T.KIND_T
+    (T._coefficients_u_lanes if kind == "u" else T._coefficients_t_lanes)(b)
+    T._steps_lanes(b, k)
+    T._horner3_lanes(b)
+    c = np.empty((3, T.ORDER + 1))
+    regular = 0
+    for l, ((w, y), K) in enumerate(zip(states, Ks)):
+        T._lane_coefficients(b, l, c)
+        h = T._scaled_step_size(k, y, K, c)
+        if np.isnan(b[T.S_HR + l]):  # handed to the scalar path
+            assert l in (0, 7), (kind, l)
+            continue
+        regular += 1
+        assert b[T.S_HR + l] == h and h > 0
+        stop = b[T.S_STOP + l]
+        last = l % 2 == 1 and h >= abs(stop - w)
+        step = stop - w if last else h
+        assert b[T.S_H + l] == step and b[T.S_WN + l] == (stop if last else w + step)
+        end = np.empty(3)
+        T._horner3(c, step, end)
+        assert np.array_equal(end, b[T.S_Y + l:T.S_Y + 3 * T.LANES:T.LANES])
+    assert regular == 6
