@@ -52,6 +52,8 @@ rule calibration_dem:
     params: build=lambda w: build_params(calibration_build().id), time_step_factor=CALIBRATION["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"]
     threads: lambda w: CODES[calibration_build().code].processes  # as run_engine (ESyS: two MPI ranks)
+    # run_engine's rule, with the engine's start alone: its runs follow from the fit, not known yet
+    priority: lambda w: engine_job_priority(calibration_build().code, 0, 0)
     resources: runtime=30, mem_mb=2000
     script: "../scripts/calibration_dem.py"
 

@@ -32,12 +32,19 @@ rule paper_figure_3:
 
 
 @lru_cache(maxsize=None)
-def energy_references():
-    """The reference rows of Fig. 4's DEM runs, solved in the workflow (one batch) once, however
-    often Snakemake evaluates the param (as convergence_plan_of), handed to the job."""
+def energy_plan():
+    """Fig. 4's DEM runs in the first build, planned (and their reference solved) once per
+    workflow, however often Snakemake evaluates the params (as convergence_plan_of)."""
     e = config["paper"]["energy"]
-    return references_of(plan_at_velocity(load_case(e["case"]), BUILDS[BUILD_IDS[0]].code, e["K"],
-                                          [config["time_step_factor"]], e["velocity"], "energy"))
+    return plan_at_velocity(load_case(e["case"]), BUILDS[BUILD_IDS[0]].code, e["K"],
+                            [config["time_step_factor"]], e["velocity"], "energy")
+
+
+def energy_priority():
+    """paper_energy_runs' priority: run_engine's rule (engine_job_priority), so that a first
+    build of several processes (ESyS) runs them while both cores are free."""
+    runs = energy_plan()
+    return engine_job_priority(BUILDS[BUILD_IDS[0]].code, len(runs), sum(r.steps() for r in runs))
 
 
 rule paper_energy_runs:
@@ -48,8 +55,9 @@ rule paper_energy_runs:
         runs=directory("results/paper/energy_runs/runs"),
     log: "logs/paper/energy_runs.log"
     params: energy=config["paper"]["energy"], build=build_params(BUILD_IDS[0]), time_step_factor=config["time_step_factor"],
-            timeout_floor_s=config["engine_timeout_floor_s"], reference=lambda w: energy_references()
+            timeout_floor_s=config["engine_timeout_floor_s"], reference=lambda w: references_of(energy_plan())
     threads: CODES[BUILDS[BUILD_IDS[0]].code].processes  # as run_engine (ESyS: two MPI ranks)
+    priority: lambda w: energy_priority()
     script: "../scripts/paper_energy_runs.py"
 
 
