@@ -39,7 +39,7 @@ from contact_model import ContactPair
 from contact_model.case_file import Case
 from reference.restitution_closed_forms import paper_series
 
-from .fit import CRITERIA, K_MAX, Fit, exact_restitution, falling_range, fit_restitution
+from .fit import CRITERIA, K_MAX, Fit, exact_restitution, f_survival, falling_range, fit_restitution
 
 POISE = 0.1  # Pa s
 ENGINES = ("liggghts", "yade", "lammps")
@@ -86,11 +86,9 @@ def constant_loss_test(velocity, restitution, sigma, fit: Fit) -> dict:
     J = res.jac
     s2 = S2 / dof if sigma is None else 1.0
     cov = s2 * np.linalg.pinv(J.T @ J)
-    from scipy import stats  # here: a ~1 s import that only this test needs (the DEM loop refits without it)
-
     return {"xi_0": float(res.x[1]), "xi_0_se": float(math.sqrt(cov[1, 1])), "k": float(res.x[0]),
             "rms_residual": float(np.sqrt(np.mean((res.fun / w) ** 2))), "F": float(F),
-            "p_value": float(stats.f.sf(F, 1, dof))}
+            "p_value": float(f_survival(F, 1, dof))}
 
 
 def _fit_summary(fit: Fit, pair: ContactPair, modulus_factors) -> dict:

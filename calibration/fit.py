@@ -77,8 +77,9 @@ def tabulated_restitution(criterion: str, nodes: int = 4001) -> Callable[[np.nda
     return lambda k: spline(np.asarray(k, dtype=float))
 
 
-# The two quantiles of the interval, from scipy.special: what scipy.stats' t.ppf and chi2.ppf
-# compute, number for number (tests), without importing scipy.stats (~1 s, more than a fit).
+# The two quantiles of the interval, and the constant-loss test's p value, from scipy.special:
+# what scipy.stats' t.ppf, chi2.ppf and f.sf compute, number for number (tests), without
+# importing scipy.stats (~1 s, more than a fit).
 def student_t_quantile(p: float, dof: int) -> float:
     """t_dof(p), the p-quantile of Student's t with `dof` degrees of freedom (scipy.stats.t.ppf)."""
     return special.stdtrit(dof, p)
@@ -88,6 +89,11 @@ def chi2_quantile(p: float, dof: int) -> float:
     """chi2_dof(p) = 2 P^{-1}(dof/2, p), P the regularised lower incomplete gamma function
     (scipy.stats.chi2.ppf)."""
     return 2 * special.gammaincinv(dof / 2, p)
+
+
+def f_survival(F: float, dfn: int, dfd: int) -> float:
+    """P(X > F) for X ~ F(dfn, dfd), the complemented F distribution function (scipy.stats.f.sf)."""
+    return special.fdtrc(dfn, dfd, F)
 
 
 def dissipation_parameters(velocity, k: float, V_ref: float) -> np.ndarray:

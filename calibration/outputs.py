@@ -17,13 +17,11 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from contact_model.case_file import Case  # noqa: E402
-from engines.run_spec import RunSpec  # noqa: E402
 
-from .case_calibration import POISE, calibrated_pair  # noqa: E402
+from .case_calibration import POISE  # noqa: E402
 from .fit import Fit, exact_restitution  # noqa: E402
+from .loop import LOOP_LAW  # noqa: E402
 
-#: The law each criterion's DEM check runs: x0 keeps the attractive tail, F0 separates at zero force.
-LOOP_LAW = {"x0": "viscoelastic", "F0": "viscoelastic_clipped"}
 
 
 def residual_table(case: Case, fits: dict[str, Fit]) -> pd.DataFrame:
@@ -88,18 +86,6 @@ def write_fit(case: Case, summary: dict, fits: dict[str, Fit], out_dir) -> None:
     residual_table(case, fits).to_csv(out / "residuals.csv", index=False, float_format="%.10g")
     engine_parameter_table(summary).to_csv(out / "engine_parameters.csv", index=False, float_format="%.10g")
     plot_fit(case, fits, out / "fit.png")
-
-
-def loop_runs(case: Case, summary: dict, engine: str, time_step_factor: float, build: str = "") -> list[RunSpec]:
-    """The DEM runs that close the loop: the calibrated pair of each criterion at every measured
-    velocity, in the law that represents that criterion."""
-    runs = []
-    for criterion, law in LOOP_LAW.items():
-        pair = calibrated_pair(case.pairs[0], summary["fits"][criterion]["eta_Pa_s"])
-        for v in sorted(set(case.measurements.velocity.tolist())):
-            runs.append(RunSpec(f"{case.name}-calibration", engine, law, pair, v, time_step_factor, label=criterion,
-                                build=build))
-    return runs
 
 
 def loop_table(dumps, summary: dict, measured: pd.DataFrame | None = None) -> pd.DataFrame:

@@ -130,16 +130,20 @@ def test_interval_matches_the_linearised_one_for_small_noise():
 
 
 def test_interval_quantiles_are_scipy_stats_ones():
-    """The fit's t and chi^2 quantiles come from scipy.special (scipy.stats is a slow import):
-    they are scipy.stats' numbers exactly, at every level and number of rows a fit can have."""
+    """The fit's t and chi^2 quantiles and the constant-loss test's F survival function come
+    from scipy.special (scipy.stats is a slow import): they are scipy.stats' numbers exactly, at
+    every level and number of rows a fit can have."""
     from scipy import stats
 
-    from calibration.fit import chi2_quantile, student_t_quantile
+    from calibration.fit import chi2_quantile, f_survival, student_t_quantile
 
     for level in (0.5, 0.6827, 0.9, 0.95, 0.9545, 0.99, 0.999):
         assert chi2_quantile(level, 1) == stats.chi2.ppf(level, 1)
         for dof in (1, 2, 3, 5, 9, 19, 30, 100, 1000):
             assert student_t_quantile(0.5 + level / 2, dof) == stats.t.ppf(0.5 + level / 2, dof)
+    for F in (0.0, 0.37, 2.5, 17.0, 300.0, np.inf):  # the constant-loss test's p value
+        for dof in (1, 3, 8, 40, 1000):
+            assert f_survival(F, 1, dof) == stats.f.sf(F, 1, dof)
 
 
 def test_data_the_model_cannot_fit_are_refused():

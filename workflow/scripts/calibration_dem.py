@@ -3,7 +3,7 @@
 import json
 
 from common import start_rule
-from calibration.outputs import loop_runs
+from calibration.loop import loop_runs
 from contact_model import load_case
 from engines import run_sweep
 from engines.builds import Build
