@@ -4,6 +4,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
@@ -26,22 +27,31 @@ table = convergence_table(errors, snakemake.params.tolerance)
 table.to_csv(snakemake.output.orders, index=False, float_format="%.4g")
 
 Ks = sorted(errors.K.unique())
-fig, axes = plt.subplots(len(Ks), 3, figsize=(15, 3.6 * len(Ks)), squeeze=False)
-styles = {"sphere-sphere": "-", "sphere-plane": "--"}
+fig, axes = plt.subplots(len(Ks), 3, figsize=(15, 3.6 * len(Ks) + 0.8), squeeze=False)
+# One colour per build, the line per geometry, the marker per criterion, and one legend of each
+# for the whole figure: with a colour per curve, the 20 curves of six builds cycled through ten
+# colours, and two builds' curves looked alike.
+builds = sorted(errors.build.unique())
+colours = {b: plt.get_cmap("tab10")(k % 10) for k, b in enumerate(builds)}
+lines = {"sphere-sphere": "-", "sphere-plane": "--"}
+markers = {"x0": "o", "F0": "s"}
 for i, K in enumerate(Ks):
     for j, q in enumerate(("T", "A", "eps")):
         ax = axes[i, j]
         for (build, geometry, criterion), g in errors[errors.K == K].groupby(["build", "geometry", "criterion"]):
             g = g.sort_values("time_step_factor")
             ax.loglog(1.0 / g.time_step_factor, np.abs(g[f"err_{q}"]).clip(lower=1e-13),
-                      styles[geometry], marker="o" if criterion == "x0" else "s", ms=4,
-                      label=f"{build}, {geometry}, {criterion}")
+                      lines[geometry], marker=markers[criterion], ms=4, color=colours[build])
         ax.axhline(snakemake.params.tolerance[q], color="k", ls=":")
         ax.set_title(f"K = {K:g}: |{q} error|")
         ax.set_xlabel("dt / T_e")
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.grid(alpha=0.3, which="both")
-axes[0, 0].legend(fontsize=6)
-fig.tight_layout()
+handles = ([Line2D([], [], color=colours[b], lw=2, label=b) for b in builds]
+           + [Line2D([], [], color="0.3", ls=ls, label=g) for g, ls in lines.items()]
+           + [Line2D([], [], color="0.3", ls="", marker=m, label=f"criterion {c}") for c, m in markers.items()]
+           + [Line2D([], [], color="k", ls=":", label="tolerance")])
+fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=8, frameon=False)
+fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / fig.get_figheight()))
 fig.savefig(snakemake.output.plot, dpi=100)
 log.info("%d error rows; orders:\n%s", len(errors), table.to_string())
