@@ -1,15 +1,6 @@
 # From a case to its engine runs and its summary.
 
 
-rule plan:
-    """The case's runs, checked and listed (results/<case>/plan.json)."""
-    input: case=lambda w: CASES[w.case], codes=CODES_FILE  # which laws each code can run
-    output: "results/{case}/plan.json"
-    log: "logs/{case}/plan.log"
-    params: listing=lambda w: PLANS[w.case]  # planned when the workflow started (workflow/rules/cases.smk)
-    script: "../scripts/plan_case.py"
-
-
 # Job priorities: Snakemake starts the highest-priority ready job that fits the free cores.
 #: A job of several processes (ESyS's two MPI ranks, `threads` = processes) needs every core free
 #: at once, and the job selection finds them free only at the study's start: later, each job that
@@ -37,6 +28,18 @@ def engine_priority(wildcards):
     """run_engine's priority: engine_job_priority of the case's runs in the build."""
     runs = [r for r in PLANS[wildcards.case]["runs"] if r["build"] == wildcards.build]
     return engine_job_priority(BUILDS[wildcards.build].code, len(runs), sum(r["steps"] for r in runs))
+
+
+rule plan:
+    """The case's runs, checked and listed (results/<case>/plan.json)."""
+    input: case=lambda w: CASES[w.case], codes=CODES_FILE  # which laws each code can run
+    output: "results/{case}/plan.json"
+    log: "logs/{case}/plan.log"
+    params: listing=lambda w: PLANS[w.case]  # planned when the workflow started (workflow/rules/cases.smk)
+    # The case summary waits for it: at priority 0 it ran after the last engine job, in series
+    # with each case's summary on the study's tail.
+    priority: CRITICAL_PATH
+    script: "../scripts/plan_case.py"
 
 
 rule run_engine:
