@@ -23,7 +23,6 @@ from .fit import Fit, exact_restitution  # noqa: E402
 from .loop import LOOP_LAW  # noqa: E402
 
 
-
 def residual_table(case: Case, fits: dict[str, Fit]) -> pd.DataFrame:
     """One row per measurement: V, eps, sigma, and each fit's K, eps and residual."""
     m = case.measurements

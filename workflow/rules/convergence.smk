@@ -16,8 +16,7 @@ def convergence_priority_of(code):
     """run_engine's priority (engine_job_priority) for `code`'s convergence sweep: these are the
     study's longest engine jobs (ESyS's ~1 min expected), and convergence_summary, which waits
     for the last of them, lands on the study's tail when they start late."""
-    runs = convergence_plan_of(code)
-    return engine_job_priority(code, len(runs), sum(r.steps() for r in runs))
+    return sweep_priority(code, convergence_plan_of(code))
 
 
 rule convergence_runs:

@@ -24,6 +24,11 @@ def engine_job_priority(code, n_runs, steps):
     return first + 1 + int(10 * CODES[code].expected_seconds(n_runs, steps))
 
 
+def sweep_priority(code, runs):
+    """engine_job_priority of a sweep of planned runs (RunSpec) of engine `code`."""
+    return engine_job_priority(code, len(runs), sum(r.steps() for r in runs))
+
+
 def engine_priority(wildcards):
     """run_engine's priority: engine_job_priority of the case's runs in the build."""
     runs = [r for r in PLANS[wildcards.case]["runs"] if r["build"] == wildcards.build]

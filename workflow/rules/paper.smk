@@ -40,13 +40,6 @@ def energy_plan():
                             [config["time_step_factor"]], e["velocity"], "energy")
 
 
-def energy_priority():
-    """paper_energy_runs' priority: run_engine's rule (engine_job_priority), so that a first
-    build of several processes (ESyS) runs them while both cores are free."""
-    runs = energy_plan()
-    return engine_job_priority(BUILDS[BUILD_IDS[0]].code, len(runs), sum(r.steps() for r in runs))
-
-
 rule paper_energy_runs:
     """The DEM runs of Fig. 4, in the first configured build."""
     input: case=config["paper"]["energy"]["case"], decks=DECKS[BUILDS[BUILD_IDS[0]].code]
@@ -57,7 +50,8 @@ rule paper_energy_runs:
     params: energy=config["paper"]["energy"], build=build_params(BUILD_IDS[0]), time_step_factor=config["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"], reference=lambda w: references_of(energy_plan())
     threads: CODES[BUILDS[BUILD_IDS[0]].code].processes  # as run_engine (ESyS: two MPI ranks)
-    priority: lambda w: energy_priority()
+    # run_engine's rule: a first build of several processes (ESyS) runs them while both cores are free
+    priority: lambda w: sweep_priority(BUILDS[BUILD_IDS[0]].code, energy_plan())
     script: "../scripts/paper_energy_runs.py"
 
 
