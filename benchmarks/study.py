@@ -3,7 +3,8 @@ material (`snakemake -j2 steel`), against the engines' own process time.
 
 Runs each target with --forceall REPEATS times in a row and prints medians, and the ratio of the
 workflow's wall time to the sum of the engine processes' wall times (from the manifests of the
-run), which cancels the machine's speed. It is printed twice: with every engine run counted once
+run: every engine job writes one, the cases', the convergence runs', Fig. 4's, the calibration's
+and the LAMMPS regression cases'), which cancels the machine's speed. It is printed twice: with every engine run counted once
 (its launcher's wall time), and with every engine process counted, which differs for ESyS only: its
 `mpirun -np 2` runs two ranks while its job holds both cores (Snakemake `threads: 2`). Measured on
 the steel sweep, alone on the two cores: each rank keeps 75-85 % of a core busy (0.5-0.8 s of

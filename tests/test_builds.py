@@ -180,3 +180,30 @@ def test_own_build_is_one_entry_and_gives_bit_identical_dumps(tmp_path):
     for key in [k for k in data if k[0] == "lammps-2021"]:
         assert data[key] == data[("my-lammps", *key[1:])]
         assert len(data[key]) > 100
+
+
+def test_regression_job_writes_a_manifest_that_verifies_its_dumps_and_counts_its_engine_seconds(tmp_path):
+    """lammps_regression_runs through Snakemake, in Debian's build: its manifest lists every dump
+    of the two cases (control and user run each) with its sha256, the user run of the mixed pair
+    as failed when the 2021 build crashed on it (it can end in SIGSEGV), and the engine processes'
+    seconds, which benchmarks/study.py adds to the study's engine seconds."""
+    require_engine("lmp", "lammps")
+    from benchmarks.study import engine_seconds
+    from postprocess.run_manifest import read_manifest, verified_dump
+
+    root = copy_workflow(tmp_path)
+    run = subprocess.run([sys.executable, "-m", "snakemake", "-j1", "results/lammps/lammps-2021/regressions.csv",
+                          "--config", "builds=[{id: lammps-2021, code: lammps, executable: lmp}]"],
+                         cwd=root, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr[-3000:]
+    manifest = read_manifest(root / "results/lammps/lammps-2021/manifest.json")
+    assert (manifest["engine"], manifest["build"]) == ("lammps", "lammps-2021")
+    assert len(manifest["dumps"]) + len(manifest["failed"]) == 4
+    for failed in manifest["failed"]:
+        assert failed["run"].endswith("-per-type-coefficients") and Path(failed["log"]).is_file()
+    for dump in manifest["dumps"]:
+        meta, cols = verified_dump(dump["path"], dump["sha256"])
+        assert meta["build"] == "lammps-2021" and len(cols["time"]) > 100
+    assert 0 < manifest["engine_seconds"] < 60
+    runs, processes = engine_seconds(str(root / "results/**/manifest.json"), 0)
+    assert runs == processes == pytest.approx(manifest["engine_seconds"], rel=1e-12)

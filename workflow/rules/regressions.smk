@@ -8,7 +8,10 @@ rule lammps_regression_runs:
     wall's hertz/material modulus and the mixed pair of per-type coefficients."""
     input: DECKS["lammps"]
     output: csv="results/lammps/{lammps_build}/regressions.csv",
-            runs=directory("results/lammps/{lammps_build}/regressions")
+            runs=directory("results/lammps/{lammps_build}/regressions"),
+            # As every engine job's: the dumps with their sha256, the failed runs and the engine
+            # process seconds (which benchmarks/study.py sums)
+            manifest="results/lammps/{lammps_build}/manifest.json"
     log: "logs/lammps_regressions/{lammps_build}.log"
     params: build=lambda w: build_params(w.lammps_build), timeout_floor_s=config["engine_timeout_floor_s"]
     script: "../scripts/lammps_regression_runs.py"

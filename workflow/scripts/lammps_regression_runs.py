@@ -4,11 +4,18 @@ from common import start_rule
 from engines.builds import Build
 from engines.lammps import run_regression_cases
 from postprocess.regressions import regression_table
+from postprocess.run_manifest import write_manifest
 
 log = start_rule(snakemake)
 build = Build(**snakemake.params.build)
 cases, sweep = run_regression_cases(snakemake.output.runs, executable=build.executable, build=build.id,
                                     timeout_floor_s=snakemake.params.timeout_floor_s)
+law = {spec.name: spec.law for case in cases for spec in (case.control, case.run)}
+write_manifest(snakemake.output.manifest, list(sweep.dumps.values()),
+               [{"run": n, "law": law[n], "problem": e.problem, "log": e.log_path} for n, e in sweep.failures.items()],
+               case="lammps regressions", build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds)
+log.info("%d runs landed, %d failed; engine processes %.2f s", len(sweep.dumps), len(sweep.failures),
+         sweep.engine_seconds)
 table = regression_table(cases, sweep, build.id)
 table.to_csv(snakemake.output.csv, index=False, float_format="%.6g")
 for row in table.to_dict("records"):
