@@ -35,13 +35,17 @@ builds = sorted(errors.build.unique())
 colours = {b: plt.get_cmap("tab10")(k % 10) for k, b in enumerate(builds)}
 lines = {"sphere-sphere": "-", "sphere-plane": "--"}
 markers = {"x0": "o", "F0": "s"}
+# Builds that agree to the last digit draw one curve, the last build's: the markers are hollow,
+# each build's larger than the next one's, so that coinciding builds show as concentric rings.
+sizes = {b: 4.0 + 2.0 * (len(builds) - 1 - k) for k, b in enumerate(builds)}
 for i, K in enumerate(Ks):
     for j, q in enumerate(("T", "A", "eps")):
         ax = axes[i, j]
         for (build, geometry, criterion), g in errors[errors.K == K].groupby(["build", "geometry", "criterion"]):
             g = g.sort_values("time_step_factor")
             ax.loglog(1.0 / g.time_step_factor, np.abs(g[f"err_{q}"]).clip(lower=1e-13),
-                      lines[geometry], marker=markers[criterion], ms=4, color=colours[build])
+                      lines[geometry], marker=markers[criterion], ms=sizes[build], mfc="none", mew=1.2, lw=1.0,
+                      color=colours[build])
         ax.axhline(snakemake.params.tolerance[q], color="k", ls=":")
         ax.set_title(f"K = {K:g}: |{q} error|")
         ax.set_xlabel("dt / T_e")
@@ -49,7 +53,7 @@ for i, K in enumerate(Ks):
         ax.grid(alpha=0.3, which="both")
 handles = ([Line2D([], [], color=colours[b], lw=2, label=b) for b in builds]
            + [Line2D([], [], color="0.3", ls=ls, label=g) for g, ls in lines.items()]
-           + [Line2D([], [], color="0.3", ls="", marker=m, label=f"criterion {c}") for c, m in markers.items()]
+           + [Line2D([], [], color="0.3", ls="", marker=m, mfc="none", label=f"criterion {c}") for c, m in markers.items()]
            + [Line2D([], [], color="k", ls=":", label="tolerance")])
 fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=8, frameon=False)
 # Margins in inches, not tight_layout: the grid is fixed (rows of three log-log panels whose tick
