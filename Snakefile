@@ -82,7 +82,7 @@ include: "workflow/rules/calibration.smk"
 include: "workflow/rules/compare.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used.
-localrules: all, plan, summary, lammps_regressions, reference_table, series, report, gate, case_verdict, case_gate, calibration, calibration_report,
+localrules: all, plan, summary, lammps_regressions, reference_tables, report, gate, case_verdict, case_gate, calibration, calibration_report,
             compare, compare_studies, compare_gate
 
 wildcard_constraints:

@@ -5,20 +5,20 @@ from functools import lru_cache
 from engines.plan import plan_at_velocity, references_of
 
 
-rule paper_claims:
-    """The paper's claims, each with its number, the computed one and a verdict; its Table 1."""
-    input: cases=[f"cases/{c}.yaml" for c in ("steel", "brass", "cork", "ice", "jaques_ball")]
-    output: claims="results/paper/claims.csv", table1="results/paper/table1.csv"
-    log: "logs/paper/claims.log"
-    script: "../scripts/paper_claims.py"
-
-
-rule paper_figure_1:
-    """Fig. 1: phi_1, phi_2 against K (series and solver, both criteria); inset xi."""
-    output: png="results/paper/fig1_phi.png"
-    log: "logs/paper/figure_1.log"
-    params: figure=1
-    script: "../scripts/paper_figure.py"
+rule paper_reference:
+    """The paper's results that need no engine, from the reference solver: its claims (each with
+    its number, the computed one and a verdict), its Table 1, Fig. 1 (phi_1, phi_2 against K,
+    series and solver, both criteria; inset xi) and Fig. 5 (the fracture velocity V_F/V_P against
+    R/L_d, three readings of 'pressure'). One job: each Python process that solves and plots pays
+    ~2.5 s of imports and numba's start-up, more than each of these outputs' own work."""
+    input: cases=[f"cases/{c}.yaml" for c in ("steel", "brass", "cork", "ice", "jaques_ball")],
+           fracture_case=config["paper"]["fracture"]["case"]
+    output: claims="results/paper/claims.csv", table1="results/paper/table1.csv",
+            figure_1="results/paper/fig1_phi.png",
+            figure_5="results/paper/fig5_fracture.png", figure_5_csv="results/paper/fig5_fracture.csv"
+    log: "logs/paper/reference.log"
+    params: P0=config["paper"]["fracture"]["P0"]
+    script: "../scripts/paper_reference.py"
 
 
 rule paper_figure_3:
@@ -61,13 +61,4 @@ rule paper_figure_4:
     output: png="results/paper/fig4_energy.png", csv="results/paper/fig4_energy.csv"
     log: "logs/paper/figure_4.log"
     params: figure=4
-    script: "../scripts/paper_figure.py"
-
-
-rule paper_figure_5:
-    """Fig. 5: the fracture velocity V_F/V_P against R/L_d, three readings of 'pressure'."""
-    input: case=config["paper"]["fracture"]["case"]
-    output: png="results/paper/fig5_fracture.png", csv="results/paper/fig5_fracture.csv"
-    log: "logs/paper/figure_5.log"
-    params: figure=5, P0=config["paper"]["fracture"]["P0"]
     script: "../scripts/paper_figure.py"
