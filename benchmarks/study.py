@@ -2,18 +2,19 @@
 material (`snakemake -j2 steel`), against the engines' own process time.
 
 Runs each target with --forceall REPEATS times in a row and prints medians, and the ratio of the
-workflow's wall time to the sum of the engine processes' wall times (from the manifests of the
-run: every engine job writes one, the cases', the convergence runs', Fig. 4's, the calibration's
-and the LAMMPS regression cases'), which cancels the machine's speed. It is printed twice: with every engine run counted once
-(its launcher's wall time), and with every engine process counted, which differs for ESyS only: its
-`mpirun -np 2` runs two ranks while its job holds both cores (Snakemake `threads: 2`). Measured on
-the steel sweep, alone on the two cores: each rank keeps 75-85 % of a core busy (0.5-0.8 s of
-each rank's CPU is the yield-spin of a rank waiting for the other), and both ranks pinned to one
-core take 1.4-1.6 times as long. So the first figure counts ESyS's engine work as one core, the
-second as two, and the truth (about 1.5) lies between them: both are printed. Peak memory: the largest sum over snakemake and all its
-descendants, sampled every 50 ms from /proc, of the proportional set size (PSS: a shared page
-counts once, split between its sharers) and, for comparison, of the resident set size (RSS,
-which counts the Python and MPI libraries that every job maps once per job).
+workflow's wall time to the sum of the engine processes' wall times (from the manifests of the run:
+every engine job writes one, the cases', the convergence runs', Fig. 4's, the calibration's and the
+LAMMPS regression cases'), which cancels the machine's speed. It is printed twice: with every engine
+run counted once (its launcher's wall time), and with every engine process counted, which differs
+for ESyS only: its `mpirun -np 2` runs two ranks while its job holds both cores (Snakemake
+`threads: 2`). Measured on the steel sweep, alone on the two cores: each rank keeps 75-85 % of a core busy
+(0.5-0.8 s of each rank's CPU is the yield-spin of a rank waiting for the other), and both ranks
+pinned to one core take 1.4-1.6 times as long. So the first figure counts ESyS's engine work as one
+core, the second as two, and the truth (about 1.5) lies between them: both are printed. Peak memory:
+the largest sum over snakemake and all its descendants, sampled every 50 ms from /proc, of the
+proportional set size (PSS: a shared page counts once, split between its sharers) and, for
+comparison, of the resident set size (RSS, which counts the Python and MPI libraries that every job
+maps once per job).
 
 Targets (the speed issue), on the 2-core machine: full study wall / engine seconds <= 1.0, one
 material <= 1.5, peak memory of the full study <= 1 GB. Run with `make bench` (it rewrites

@@ -54,6 +54,12 @@ class Sweep:
     failures: dict[str, EngineRunFailed] = field(default_factory=dict)
     engine_seconds: float = 0.0
 
+    def failed_runs(self, runs) -> list[dict]:
+        """The manifest's `failed` entries (run, law, problem, log) of the failed ones among
+        `runs` (RunSpec), in the order they failed."""
+        law = {r.name: r.law for r in runs}
+        return [{"run": n, "law": law[n], "problem": e.problem, "log": e.log_path} for n, e in self.failures.items()]
+
     def raise_first(self) -> "Sweep":
         """Raise the first failure, if any; otherwise return self."""
         if self.failures:

@@ -10,9 +10,8 @@ log = start_rule(snakemake)
 build = Build(**snakemake.params.build)
 cases, sweep = run_regression_cases(snakemake.output.runs, executable=build.executable, build=build.id,
                                     timeout_floor_s=snakemake.params.timeout_floor_s)
-law = {spec.name: spec.law for case in cases for spec in (case.control, case.run)}
 write_manifest(snakemake.output.manifest, list(sweep.dumps.values()),
-               [{"run": n, "law": law[n], "problem": e.problem, "log": e.log_path} for n, e in sweep.failures.items()],
+               sweep.failed_runs([spec for case in cases for spec in (case.control, case.run)]),
                case="lammps regressions", build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds)
 log.info("%d runs landed, %d failed; engine processes %.2f s", len(sweep.dumps), len(sweep.failures),
          sweep.engine_seconds)

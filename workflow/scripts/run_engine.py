@@ -29,7 +29,7 @@ for name, err in sweep.failures.items():
     else:
         log.warning("out-of-the-box run failed (reported, not gated): %s", err)
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs if r.name in sweep.dumps],
-               [{"run": n, "law": law[n], "problem": e.problem, "log": e.log_path} for n, e in sweep.failures.items()],
+               sweep.failed_runs(runs),
                case=case_name, build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds)
 log.info("%d runs landed, %d failed; engine process %.2f s", len(sweep.dumps), len(sweep.failures),
          sweep.engine_seconds)
