@@ -52,15 +52,10 @@ def job_entry(spec: RunSpec, out: Path) -> dict:
     """The numbers of one run for the ESyS deck (SI)."""
     p = spec.pair
     params = p.engine_parameters("esys")
+    # No sample falls at touching (a rounding-level overlap whose force, read from a velocity
+    # jump, no velocity could show): every run starts half a step off the grid
+    # (engines.ladder.START_PHASE).
     state = spec.initial_state()
-    # ESyS's force is read from the velocity jump of a step, which resolves no force below
-    # M* ulp(v) / dt. A sample exactly at touching (the gap is a whole number of steps) would
-    # carry a rounding-level overlap, positive or negative, whose force no velocity can show:
-    # start half a step further apart, so that no sample falls at touching. The record keeps
-    # its own times and overlaps; only the moment of first contact moves, by dt / 2.
-    state["x1"] -= 0.5 * state["v1"] * state["dt"]
-    if "x2" in state:
-        state["x2"] -= 0.5 * state["v2"] * state["dt"]
     entry = {"name": spec.name, "geometry": p.geometry, "law": spec.law, "out": str(out), **state,
              "m1": p.body_1.mass}
     factor = 1.0

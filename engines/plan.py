@@ -10,6 +10,10 @@ own, or those that give the study's K grid in that geometry):
   to the reference eps under the criterion that engine's default stands for; the same setting
   then runs at every velocity of the sweep, which shows how far it drifts.
 
+Each run of a gated law is a ladder of runs at several time steps (`ladder`: the factors of
+T_e per kind of law, `engines.ladder`), extrapolated to dt -> 0 by the post-processing; the
+out-of-the-box law runs once, at T_e / time_step_factor (compared, not gated).
+
 A velocity whose Hertz overlap delta_e exceeds `max_overlap_ratio` R* is not run, with the
 reason recorded: there the contact radius is no longer small against R* (Hertz's premise), and
 the engines' contact geometry breaks down as delta approaches the radius (a sphere's centre
@@ -24,8 +28,9 @@ A case the engines cannot run honestly is refused here, before any engine starts
 - a velocity, or a Hertz scale derived from it, that is not a finite positive double
   (extreme magnitudes overflow or underflow: V_D = M*^2 E*^3 / (R* eta^5) easily does);
 - a velocity the case asks for (impact.velocity or impact.K) whose overlap is too small for
-  double-precision positions to resolve (`roundoff_error`); velocities of the study's K grid
-  that fail this are not run, with the reason, like the too-fast ones;
+  double-precision positions to resolve at the gate's resolution (`ladder_roundoff`);
+  velocities of the study's K grid that fail this are not run, with the reason, like the
+  too-fast ones;
 - an empty plan: nothing left to run once the too-fast and unresolvable velocities are out.
 """
 
@@ -40,41 +45,46 @@ from postprocess.verdict_files import file_sha256
 from reference import solve_collision, solve_collisions
 
 from .codes import law_unavailable
-from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, LAWS, RunSpec
+from .ladder import powers_of, richardson_weights, rung_factor
+from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, GATED_LAWS, LAWS, RunSpec
 
-#: Unit round-off of an IEEE double: a stored number is off by at most this, relatively.
-UNIT_ROUNDOFF = 2.0**-53
-#: The largest round-off error of the overlap a run may carry, relative to delta_e.
+#: The largest round-off of positions a ladder of runs may carry into its extrapolated errors
+#: (`ladder_roundoff`), relative: a fifth of the default tolerance (1e-6), so that round-off
+#: cannot decide between a pass and a fail of a clean engine.
 #:
-#: Why: the engines store the centres as doubles of magnitude X = |x1| + |x2| ~ R (the sphere's
-#: centre starts at -(R1 + gap)), so every position update x += v dt is rounded by up to
-#: u |x| (u = 2^-53), and the overlap delta, a difference of positions, carries that absolute
-#: error. The errors of successive steps have random signs, so after N steps they add up as a
-#: random walk, ~ sqrt(N) u X; relative to the maximum overlap that is
-#:     e_roundoff = sqrt(N) u X / delta_e,
-#: and the contact times and area inherit the same relative error (A = pi R* delta, and the
-#: start and end of contact are where delta crosses zero). Check against the one measurement:
-#: steel, sphere-plane, V = 1e-12 m/s (delta_e / R = 6e-13, N = 1302 steps at dt = T_e/1000)
-#: gives e_roundoff = 6.7e-3; all three engines missed T by 7e-3 there.
-#: A run may carry at most a tenth of the study's 5e-4 tolerance, so that round-off cannot
-#: decide between a pass and a fail: delta_e / X >= sqrt(N) u / 5e-5, about 8e-11 at
-#: dt = T_e/1000 (one ulp of the positions is then at most 1.4e-6 of delta_e).
-ROUNDOFF_LIMIT = 5e-5
+#: Why: the engines store the centres as doubles of magnitude X = |x1| + |x2| ~ R, so every
+#: position update is rounded by up to u |x| (u = 2^-53), and the overlap, a difference of
+#: positions, carries that error; over N steps it adds up as a random walk, so each run carries
+#: up to sqrt(N) u X / delta_max (`RunSpec.roundoff_floor`), and the extrapolation over a
+#: ladder weighs its rungs' errors with its Richardson weights w_k (about 5 times the finest
+#: rung's floor for the four-rung ladder). Soft materials at small K need the tiniest overlaps:
+#: ice at K = 0.01 has delta_e / R = 1.7e-9, a floor of 3e-6 at T_e/2000.
+ROUNDOFF_LIMIT = 2e-7
+#: The ladders of the study's default settings: time-step factors of T_e per kind of law (the
+#: dissipative ones refined by sqrt(K) above K = 1: `engines.ladder.rung_factor`).
+DEFAULT_LADDER = {"dissipative": (250, 500, 1000, 2000), "elastic": (125, 250, 500)}
 
 
 class PlanError(CaseError):
-    """A law a build's code cannot express (`engines.codes`, ``unavailable``) is not run in that build;
-the plan lists the cell (build, law, geometry) with the reason, for the report.
-
-A case the engines cannot run honestly; the message names the case file and the field."""
+    """A case the engines cannot run honestly; the message names the case file and the field."""
 
 
-def roundoff_error(spec: RunSpec) -> float:
-    """The expected relative error of the overlap from rounding the positions to doubles:
-    sqrt(steps) u X / delta_e, X the magnitude of the stored centres (see ROUNDOFF_LIMIT)."""
-    state = spec.initial_state()
-    X = abs(state["x1"]) + abs(state.get("x2", 0.0))
-    return math.sqrt(spec.steps()) * UNIT_ROUNDOFF * X / spec.scales["delta_e"]
+def ladder_factors(ladder: dict, law: str, K: float) -> list[float]:
+    """The time-step factors of the rungs of a run of `law` at dissipation parameter K: the
+    ladder's 'elastic' factors for the elastic law, its 'dissipative' ones refined by
+    `engines.ladder.rung_factor` for the viscoelastic laws."""
+    if law == "elastic":
+        return [float(f) for f in ladder["elastic"]]
+    return [float(rung_factor(f, K)) for f in ladder["dissipative"]]
+
+
+def ladder_roundoff(rungs: list[RunSpec]) -> float:
+    """The round-off of positions that a ladder's extrapolated errors may carry, relative:
+    sqrt(sum_k (w_k floor_k)^2), w the ladder's Richardson weights and floor_k each rung's
+    `RunSpec.roundoff_floor` (independent errors, propagated; see ROUNDOFF_LIMIT)."""
+    h = [r.time_step / r.scales["T_e"] for r in rungs]
+    w = richardson_weights(h, powers_of(rungs[0].pair.eta)[: len(rungs) - 1])
+    return math.sqrt(sum((wk * r.roundoff_floor()) ** 2 for wk, r in zip(w, rungs)))
 
 
 def _velocities(case: Case, pair, K_grid) -> list[tuple[float, str, str, float | None]]:
@@ -182,15 +192,19 @@ class Plan:
 
 def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3, 0.5),
               time_step_factor: float = 1000.0, match_K: float = 0.1,
-              max_overlap_ratio: float = 0.5, roundoff_limit: float = ROUNDOFF_LIMIT) -> Plan:
+              max_overlap_ratio: float = 0.5, roundoff_limit: float = ROUNDOFF_LIMIT,
+              ladder: dict | None = None) -> Plan:
     """Every run of `case` for the given engine builds (see `build_codes`) and laws, in a
-    stable order: every build runs the same pairs, velocities, laws and time step.
+    stable order: every build runs the same pairs, velocities, laws and time steps. A gated law
+    runs a ladder of time steps (`ladder`, default DEFAULT_LADDER; `ladder_factors`), the
+    out-of-the-box law one run at T_e / time_step_factor.
 
     Raises `PlanError` (naming the case file and the field) for a case the engines cannot run
     honestly: see the module's docstring."""
     unknown = set(laws) - set(LAWS)
     if unknown:
         raise ValueError(f"unknown contact law(s) {sorted(unknown)}; known: {LAWS}")
+    ladder = ladder or DEFAULT_LADDER
     plan = Plan()
     allowed = {}  # geometry -> the velocities that are run
     velocities = {pair.geometry: _velocities(case, pair, K_grid) for pair in case.pairs}
@@ -205,10 +219,10 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                 plan.skipped.append({**skip, "reason": f"the Hertz overlap would be {ratio:.2g} R* "
                                                        f"(> {max_overlap_ratio:g} R*) at V = {v:.3g} m/s"})
                 continue
-            error = roundoff_error(probe)
+            error = ladder_roundoff(_probe_ladder(probe, ladder, laws))
             if error > roundoff_limit:
                 reason = (f"the Hertz overlap {ratio:.2g} R* at V = {v:.3g} m/s is too small for double-precision "
-                          f"positions: round-off would give a relative error of about {error:.1g} "
+                          f"positions: round-off would limit the extrapolated errors to about {error:.1g} "
                           f"(> {roundoff_limit:g}); see engines.plan.ROUNDOFF_LIMIT")
                 if where == "impact":  # the study's grid: not this case's request
                     plan.skipped.append({**skip, "reason": reason})
@@ -240,14 +254,26 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                                                "geometry": pair.geometry, "reason": reason})
                     continue
                 e = matched[engine] if law == "default" else None
-                plan.runs += [RunSpec(case.name, engine, law, pair, v, time_step_factor, matched_restitution=e,
-                                      reference=elastic if law == "elastic" else reference[(pair.geometry, v)],
-                                      build=build)
-                              for v in allowed[pair.geometry]]
+                for v in allowed[pair.geometry]:
+                    row = elastic if law == "elastic" else reference[(pair.geometry, v)]
+                    factors = (ladder_factors(ladder, law, row["K"]) if law in GATED_LAWS
+                               else [time_step_factor])
+                    plan.runs += [RunSpec(case.name, engine, law, pair, v, f, matched_restitution=e, reference=row,
+                                          build=build) for f in factors]
     if not plan.runs:
         raise PlanError(case.path, "viscosity" if all(p.eta == 0 for p in case.pairs) else "laws",
                         f"nothing to run with the laws {', '.join(laws)} in the builds {', '.join(builds)}")
     return plan
+
+
+def _probe_ladder(probe: RunSpec, ladder: dict, laws) -> list[RunSpec]:
+    """The rungs of the gated law of `laws` with the longest runs (the tail kept, then clipped,
+    then elastic; elastic alone for an elastic contact) at the probe's velocity: the ladder whose
+    round-off decides whether the velocity can be run."""
+    law = next((lw for lw in ("viscoelastic", "viscoelastic_clipped", "elastic") if lw in laws), "viscoelastic")
+    if probe.pair.eta == 0:
+        law = "elastic"
+    return [replace(probe, law=law, time_step_factor=f) for f in ladder_factors(ladder, law, probe.K)]
 
 
 def _body(body) -> dict:
@@ -260,7 +286,8 @@ def plan_listing(case: Case, plan: Plan) -> dict:
     return {"case": case.name, "file": case.path, "case_sha256": file_sha256(case.path),
             "pairs": {p.geometry: {"body_1": _body(p.body_1), "body_2": _body(p.body_2), "E": p.E, "eta": p.eta}
                       for p in case.pairs},
-            "runs": [{"name": r.name, "build": r.build, "engine": r.engine, "law": r.law, "geometry": r.pair.geometry,
+            "runs": [{"name": r.name, "ladder": r.ladder, "build": r.build, "engine": r.engine, "law": r.law,
+                      "geometry": r.pair.geometry,
                       "represents": list(r.represents), "velocity": r.velocity, "K": r.K,
                       "time_step_factor": r.time_step_factor, "time_step": r.time_step, "steps": r.steps(),
                       "matched_restitution": r.matched_restitution, "reference": r.reference}

@@ -30,6 +30,7 @@ from contact_model import ContactPair
 from reference import HERTZ_TAU, solve_collision
 
 from .codes import CODES
+from .ladder import START_PHASE, aligned_time_step
 
 LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic", "default")
 #: The laws the study validates against tolerances (the model under test); 'default' is compared only.
@@ -43,9 +44,18 @@ ENGINES = tuple(CODES)
 #: The criterion each engine's default law stands for (engines.codes: whether it keeps the tail).
 DEFAULT_LAW_CRITERION = {name: c.default_criterion for name, c in CODES.items()}
 
-#: Steps of free flight before contact and after separation.
+#: Steps of free flight before contact (plus START_PHASE: contact starts half a step after a
+#: sample) and after separation.
 GAP_STEPS = 20
 TAIL_STEPS = 30
+#: The end of contact each law's time step is aligned to (`engines.ladder.aligned_time_step`):
+#: the point where its force is not smooth, so that it falls at the same phase of the step grid
+#: at every rung of a ladder. The tail's x0 end (force ~ delta^{1/2} d(delta)/dt), the clipped
+#: force's kink at F0, Hertz's x0 end (~ delta^{3/2}). The out-of-the-box law is not aligned
+#: (it runs at one time step, compared, not gated).
+ALIGNED_END = {"viscoelastic": "x0", "viscoelastic_clipped": "F0", "elastic": "x0"}
+#: Unit round-off of an IEEE double: a stored number is off by at most this, relatively.
+UNIT_ROUNDOFF = 2.0**-53
 
 
 @dataclass(frozen=True)
@@ -57,7 +67,7 @@ class RunSpec:
     law: str
     pair: ContactPair
     velocity: float
-    time_step_factor: float = 1000.0  # dt = T_e / factor
+    time_step_factor: float = 1000.0  # dt ~ T_e / factor (aligned: `time_step`)
     matched_restitution: float | None = None  # for law 'default': the eps it is tuned to
     label: str = ""  # appended to the name, for runs that differ in something else
     #: The reference solution at this run's K (a `reference.CollisionTable` row), solved once
@@ -91,7 +101,42 @@ class RunSpec:
 
     @property
     def time_step(self) -> float:
-        return self.scales["T_e"] / self.time_step_factor
+        """dt [s]: T_e / time_step_factor, moved so that a whole number of steps spans the
+        contact up to the law's aligned end (`ALIGNED_END`, `engines.ladder.aligned_time_step`):
+        with the start at START_PHASE, the end then falls at the same phase at every time step
+        of a ladder. Unaligned (exactly T_e / factor) for the out-of-the-box law, and where the
+        reference is not solved (K > 10)."""
+        T_e = self.scales["T_e"]
+        tau = self._reference_time(ALIGNED_END.get(self.law))
+        if tau is None:
+            return T_e / self.time_step_factor
+        return aligned_time_step(tau / HERTZ_TAU * T_e, T_e, self.time_step_factor)
+
+    def _reference_row(self) -> dict | None:
+        """The reference solution at this run's K (None for K > 10, outside the solver's range)."""
+        if self.K > 10.0:
+            return None
+        if self.reference is not None:
+            return self.reference
+        return solve_collision(self.K) if self.K > 0 else None
+
+    def _reference_time(self, end: str | None) -> float | None:
+        """The reference (dimensionless) time of contact end `end` ('x0', 'F0', or 'F0 return':
+        where a clipped run's overlap returns to zero in free flight), None when unknown."""
+        if end is None:
+            return None
+        if self.K == 0:
+            return HERTZ_TAU  # Hertz alone: x0 and F0 coincide
+        r = self._reference_row()
+        if r is None:
+            return None
+        if end == "x0":
+            return r["tau_0"]
+        if end == "F0":
+            return r["tau_f"]
+        # After F0 a clipped run flies freely at eps_F0 from x_f, where (5/4) x_f + K x' = 0,
+        # i.e. x_f = (4/5) K eps_F0: it touches zero (4/5) K later.
+        return r["tau_f"] + 0.8 * self.K
 
     @property
     def represents(self) -> tuple[str, ...]:
@@ -102,26 +147,54 @@ class RunSpec:
 
     @property
     def name(self) -> str:
-        name = (f"{self.build}-{self.law}-{self.pair.geometry}-K{self.K:.6g}-V{self.velocity:.6e}"
-                f"-dt{self.time_step_factor:g}")
+        return self._name(f"-dt{self.time_step_factor:g}")
+
+    @property
+    def ladder(self) -> str:
+        """The name of the ladder this run is a rung of: its name without the time step (the
+        runs that differ in their time step alone are extrapolated together)."""
+        return self._name("")
+
+    def _name(self, time_step: str) -> str:
+        name = f"{self.build}-{self.law}-{self.pair.geometry}-K{self.K:.6g}-V{self.velocity:.6e}{time_step}"
         if self.matched_restitution is not None:
             name += f"-e{self.matched_restitution:.6f}"
         return f"{name}-{self.label}" if self.label else name
 
     def initial_gap(self) -> float:
-        """Distance between the surfaces at t = 0 [m]: GAP_STEPS steps of approach."""
-        return GAP_STEPS * self.velocity * self.time_step
+        """Distance between the surfaces at t = 0 [m]: GAP_STEPS + START_PHASE steps of
+        approach, so that contact starts half a step after sample GAP_STEPS."""
+        return (GAP_STEPS + START_PHASE) * self.velocity * self.time_step
 
     def steps(self) -> int:
-        """Steps to run: the approach, the contact (the reference x0 duration, with a margin
-        for the engines' own errors and for the default laws), and some free flight."""
-        K = min(self.K, 10.0)
-        if self.reference is not None and K == self.K:
-            tau_0 = self.reference["tau_0"]
-        else:
-            tau_0 = solve_collision(K)["tau_0"] if K > 0 else HERTZ_TAU
-        contact_steps = 1.25 * tau_0 / HERTZ_TAU * self.time_step_factor
+        """Steps to run: the approach, the contact (the reference duration until the overlap
+        returns to zero, with a margin for the engines' own errors and for the default laws),
+        and some free flight. A clipped run flies freely after F0 and is over sooner than the
+        tail's x0 end (at K = 5: 5.9 against 14.7 in units of delta_e / V)."""
+        end = "F0 return" if self.law == "viscoelastic_clipped" else "x0"
+        tau = self._reference_time(end)
+        if tau is None:  # K > 10: the solver's largest K, a lower bound of the contact's length
+            tau = solve_collision(10.0)["tau_0"]
+        contact_steps = 1.25 * tau / HERTZ_TAU * self.scales["T_e"] / self.time_step
         return int(GAP_STEPS + math.ceil(contact_steps) + TAIL_STEPS)
+
+    def roundoff_floor(self) -> float:
+        """The relative error [-] double-precision positions may leave in T, A and eps:
+
+            sqrt(steps) u X / delta_max,
+
+        X the magnitude of the stored centres (|x1| + |x2|; the sphere's centre starts at
+        -(R1 + gap)), u = 2^-53. Every position update x += v dt is rounded by up to u |x|; the
+        overlap, a difference of positions, carries those errors, which add up over the steps as
+        a random walk. Measured (tests/test_ladder.py, on the engines' map with positions stored
+        at their magnitude): the rms error of T, A and eps lies between u X / delta_max and this
+        bound; for steel on a plane at 1e-12 m/s, LIGGGHTS, YADE and LAMMPS missed T by 7e-3
+        against 6.7e-3 predicted."""
+        state = self.initial_state()
+        X = abs(state["x1"]) + abs(state.get("x2", 0.0))
+        r = self._reference_row()
+        x_max = r["x_max"] if r is not None and self.K > 0 else 1.0
+        return math.sqrt(self.steps()) * UNIT_ROUNDOFF * X / (x_max * self.scales["delta_e"])
 
     def initial_velocities(self) -> tuple[float, float]:
         """Velocities of body 1 and 2 along the line of centres (body 1 moves +x towards
@@ -160,6 +233,8 @@ class RunSpec:
             "radius_2": None if p.body_2.is_plane else p.body_2.radius,
             "density_2": None if p.body_2.is_plane else p.body_2.density,
             "delta_e": s["delta_e"], "T_e": s["T_e"], "A_e": s["A_e"],
+            "ladder": self.ladder, "aligned_end": ALIGNED_END.get(self.law), "start_phase": START_PHASE,
+            "roundoff_floor": self.roundoff_floor(),
         }
         if self.matched_restitution is not None:
             meta["matched_restitution"] = self.matched_restitution

@@ -3,24 +3,44 @@
 Pure functions on arrays (time [s], overlap [m], normal_velocity d(delta)/dt [m/s],
 normal_force [N]); no engine and no file in sight.
 
-- Contact start t_s: the overlap crosses zero upwards (linear interpolation between samples).
-- Criterion x0: the overlap crosses zero downwards at t_x0; T_x0 = t_x0 - t_s,
-  eps_x0 = -d(delta)/dt (t_x0) / V.
-- Criterion F0: the normal force first drops to zero at t_F0 (after the contact started);
-  T_F0 = t_F0 - t_s, eps_F0 = -d(delta)/dt (t_F0) / V.
-- delta_max: the vertex of the parabola through the largest sample and its two neighbours
-  (the sampled maximum alone is off by ~(dt/T)^2).
+The events are read the way the motion allows, so that what the extraction adds to a run's error
+is a smooth function of the time step (the ladder extrapolates it away, `engines.ladder`) and not
+a jitter that depends on where an event falls between two samples:
 
-Crossings are interpolated linearly, which is second-order accurate in the sampling step. A force
-clipped at exactly zero (an engine that forbids attraction) is extrapolated from the last three
-positive samples instead (third order).
+- Contact start t_s: before contact the bodies fly freely, so the overlap is exactly the line
+  through the last sample before contact with the velocity recorded there; t_s is its zero.
+- Criterion x0 (the overlap returns to zero): after contact the bodies fly freely again, at the
+  exit velocity; t_x0 is the zero of the free-flight line through the first sample after
+  contact, and eps_x0 = -d(delta)/dt there / V, the engine's own exit velocity. Interpolating
+  across the end, where the force (~ delta^{1/2} d(delta)/dt) is not smooth, would add an error
+  of order dt^{3/2} that jumps with the end's phase on the step grid.
+- Criterion F0 (the force first returns to zero): the zero of F / delta^{1/2}, which has the
+  zero of F but is smooth near the overlap's zero (F ~ delta^{1/2} times a smooth function
+  for Hertz with Kuwabara-Kono damping), on a cubic through four in-contact samples around the
+  sign change, or through the last four when the zero lies in the last step before x0 (small K);
+  eps_F0 = -d(delta)/dt at t_F0 / V on a cubic through the same samples.
+  A force clipped at zero (the engine forbids attraction; it stays at zero while the bodies still
+  overlap) ends the contact's dynamics: t_F0 is the zero of the cubic through the last four
+  positive samples, extrapolated, and eps_F0 the exit velocity of the free flight that follows.
+- delta_max: the maximum of the quartic through the five samples around the largest (the sampled
+  maximum alone is off by ~(dt/T)^2).
+- The phases of the start and of the x0 end on the step grid (fraction of a step after a
+  sample), for the ladder's alignment check (`engines.ladder.PHASE_TOLERANCE`).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+
+#: A force whose magnitude stays below this fraction of the maximum force while the bodies still
+#: overlap is clipped at zero (an engine's rounding may leave 1e-20 instead of 0).
+CLIPPED = 1e-9
+#: Samples in a stencil: cubic crossings (4), the quartic around the maximum (5).
+CROSSING_POINTS = 4
+PEAK_POINTS = 5
 
 
 class ExtractionError(ValueError):
@@ -29,7 +49,10 @@ class ExtractionError(ValueError):
 
 @dataclass(frozen=True)
 class CollisionMetrics:
-    """One collision's characteristics (SI). NaN where a criterion's end was not reached."""
+    """One collision's characteristics (SI). NaN where a criterion's end was not reached.
+
+    start_phase and end_phase: where the contact starts and where the x0 end falls on the step
+    grid, as the fraction of a step after the sample before it, in [0, 1)."""
 
     t_start: float
     delta_max: float
@@ -39,52 +62,56 @@ class CollisionMetrics:
     T_F0: float
     eps_F0: float
     samples_in_contact: int
+    start_phase: float = math.nan
+    end_phase: float = math.nan
 
 
-def _crossing(t, y, i):
-    """Time where y crosses zero between samples i-1 and i (linear)."""
-    t0, t1, y0, y1 = t[i - 1], t[i], y[i - 1], y[i]
-    return t0 + (t1 - t0) * y0 / (y0 - y1)
+def _cubic(t, y, t0):
+    """Coefficients (highest first) of the polynomial through (t - t0, y)."""
+    return np.polyfit(t - t0, y, len(t) - 1)
 
 
-def _extrapolated_zero(t3, y3, t_next):
-    """Zero of the quadratic through three samples, in [t3[-1], t_next] (third order);
-    the linear extrapolation of the last two where the quadratic has no zero there."""
-    t0 = t3[-1]
-    c2, c1, c0 = np.polyfit(t3 - t0, y3, 2)
-    roots = np.roots([c2, c1, c0]) if c2 != 0 else np.roots([c1, c0])
-    real = roots[np.isreal(roots)].real
-    inside = real[(real >= 0) & (real <= t_next - t0)]
-    if len(inside):
-        return t0 + inside.min()
-    slope = (y3[-1] - y3[-2]) / (t3[-1] - t3[-2])
-    return min(t0 - y3[-1] / slope, t_next) if slope < 0 else t_next
+def _root_in(coefficients, t0, lo, hi) -> float | None:
+    """The real root of the polynomial (in t - t0) in [lo, hi] nearest to lo, or None."""
+    roots = np.roots(coefficients)
+    real = roots[np.abs(roots.imag) <= 1e-9 * max(1.0, float(np.abs(roots).max()))].real + t0
+    slack = 1e-9 * (hi - lo)
+    inside = real[(real >= lo - slack) & (real <= hi + slack)]
+    if not len(inside):
+        return None
+    return float(min(max(inside[np.argmin(np.abs(inside - lo))], lo), hi))
 
 
-def _interpolate(t, y, i, at):
-    """y at time `at` between samples i-1 and i (linear)."""
-    w = (at - t[i - 1]) / (t[i] - t[i - 1])
-    return (1 - w) * y[i - 1] + w * y[i]
+def _free_flight_zero(t, d, v, i) -> float:
+    """Where the free-flight line through sample i (overlap d[i], velocity v[i]) crosses zero."""
+    if v[i] == 0:
+        raise ExtractionError(f"the bodies do not move at sample {i} (free flight at zero velocity)")
+    return float(t[i] - d[i] / v[i])
 
 
-def _parabola_vertex(t, y, i):
-    """(t, y) of the vertex of the parabola through samples i-1, i, i+1."""
-    if i == 0 or i == len(y) - 1:
-        return t[i], y[i]
-    h0, h1 = t[i] - t[i - 1], t[i + 1] - t[i]
-    # Divided differences of the interpolating quadratic.
-    d1 = (y[i] - y[i - 1]) / h0
-    d2 = (y[i + 1] - y[i]) / h1
-    c = (d2 - d1) / (h0 + h1)
-    if c >= 0:
-        return t[i], y[i]
-    b = d1 + c * h0  # slope at t[i] of p(t) = y_i + b (t - t_i) + c (t - t_i)^2
-    s = -b / (2 * c)  # offset from t[i]
-    return t[i] + s, y[i] + b * s + c * s * s
+def _phase(time, t0, dt) -> float:
+    """The fraction of a step after the sample before `time` (samples at t0 + k dt)."""
+    steps = (time - t0) / dt
+    return float(steps - math.floor(steps))
+
+
+def _f0_in_tail(t, d, v, g, i_s, i_x, drops):
+    """(t_F0, eps rate) where a force that keeps its tail (not clipped) first crosses zero."""
+    if len(drops):
+        k = i_s + drops[0]
+        lo, hi = t[k - 1], t[k]
+        a = min(max(k - CROSSING_POINTS // 2, i_s), i_x - CROSSING_POINTS)
+    else:  # positive at every in-contact sample: the zero, if any, lies in the last step
+        lo, hi = t[i_x - 1], None
+        a = i_x - CROSSING_POINTS
+    stencil = slice(a, a + CROSSING_POINTS)
+    t0 = t[a]
+    return stencil, t0, lo, hi
 
 
 def collision_metrics(time, overlap, normal_velocity, normal_force, impact_velocity) -> CollisionMetrics:
-    """Extract T, delta_max and eps under both criteria from one sampled collision."""
+    """Extract T, delta_max and eps under both criteria from one sampled collision (see the
+    module's docstring for how each event is read)."""
     t = np.asarray(time, float)
     d = np.asarray(overlap, float)
     v = np.asarray(normal_velocity, float)
@@ -98,39 +125,59 @@ def collision_metrics(time, overlap, normal_velocity, normal_force, impact_veloc
     touching = np.nonzero(d > 0)[0]
     if len(touching) == 0:
         raise ExtractionError("the bodies never touch (the overlap never becomes positive)")
-    i_s = touching[0]
-    t_s = _crossing(t, d, i_s)
-
+    i_s = int(touching[0])
     after = np.nonzero(d[i_s:] <= 0)[0]
     if len(after) == 0:
         raise ExtractionError("the contact is still open when the series ends (overlap > 0 at the last sample)")
-    i_x = i_s + after[0]
-    t_x0 = _crossing(t, d, i_x)
-    eps_x0 = -_interpolate(t, v, i_x, t_x0) / impact_velocity
-
-    # F0: the first in-contact sample (overlap > 0) whose force is <= 0. Where the force stays
-    # positive as long as the bodies overlap (an elastic contact, force ~ delta^{3/2}), the
-    # force vanishes with the overlap and both criteria end together.
-    drops = np.nonzero(f[i_s:i_x] <= 0)[0]
-    if len(drops) == 0:
-        t_f0, eps_f0 = t_x0, eps_x0
-    elif drops[0] == 0:
-        raise ExtractionError("the normal force is not positive at the first sample in contact")
-    else:
-        i_f = i_s + drops[0]
-        if f[i_f] == 0 and i_f - 3 >= i_s:
-            # The engine clipped the force at zero (F0 physics): the zero sample says nothing
-            # of where the force crossed, so extrapolate the last three positive samples.
-            t_f0 = _extrapolated_zero(t[i_f - 3:i_f], f[i_f - 3:i_f], t[i_f])
-        else:
-            t_f0 = _crossing(t, f, i_f)
-        eps_f0 = -_interpolate(t, v, i_f, t_f0) / impact_velocity
+    i_x = i_s + int(after[0])
+    if i_x - i_s < PEAK_POINTS + 1:
+        raise ExtractionError(f"the contact spans {i_x - i_s} samples, fewer than {PEAK_POINTS + 1}: the time step "
+                              "is too coarse to resolve it")
+    dt = (t[-1] - t[0]) / (len(t) - 1)
+    t_s = _free_flight_zero(t, d, v, i_s - 1)
+    t_x0 = _free_flight_zero(t, d, v, i_x)
+    eps_x0 = -v[i_x] / impact_velocity
 
     contact = slice(i_s, i_x)
+    scale = float(np.abs(f[contact]).max())
+    if scale == 0:
+        raise ExtractionError("the normal force is zero at every sample in contact")
+    g = f / np.sqrt(np.where(d > 0, d, np.nan))  # F / delta^{1/2}: smooth where F ~ delta^{1/2}
+    drops = np.nonzero(f[contact] <= CLIPPED * scale)[0]
+    if len(drops) and drops[0] == 0:
+        raise ExtractionError("the normal force is not positive at the first sample in contact")
+    if len(drops) and np.all(np.abs(f[i_s + drops[0]:i_x]) <= CLIPPED * scale):
+        # Clipped at zero: the dynamics of the contact end at F0, the rest is free flight.
+        k = i_s + int(drops[0])
+        if k - CROSSING_POINTS < i_s:
+            raise ExtractionError("the force is clipped to zero before four samples in contact")
+        stencil = slice(k - CROSSING_POINTS, k)
+        t0 = t[k - CROSSING_POINTS]
+        root = _root_in(_cubic(t[stencil], g[stencil], t0), t0, t[k - 1], t[k])
+        t_f0 = t[k] if root is None else root
+        eps_f0 = -v[k] / impact_velocity
+    else:
+        tail_drops = np.nonzero(f[contact] <= 0)[0]
+        stencil, t0, lo, hi = _f0_in_tail(t, d, v, g, i_s, i_x, tail_drops)
+        root = _root_in(_cubic(t[stencil], g[stencil], t0), t0, lo, t_x0 if hi is None else hi)
+        if root is None and not len(tail_drops):
+            # The force vanishes with the overlap (Hertz alone, eta = 0): both criteria end together.
+            t_f0, eps_f0 = t_x0, eps_x0
+        else:
+            t_f0 = lo if root is None else root
+            eps_f0 = -float(np.polyval(_cubic(t[stencil], v[stencil], t0), t_f0 - t0)) / impact_velocity
+
     i_m = i_s + int(np.argmax(d[contact]))
-    t_m, d_m = _parabola_vertex(t, d, i_m)
+    a = min(max(i_m - PEAK_POINTS // 2, i_s), i_x - PEAK_POINTS)
+    peak = slice(a, a + PEAK_POINTS)
+    t0 = t[i_m]
+    quartic = np.polyfit(t[peak] - t0, d[peak], PEAK_POINTS - 1)
+    candidates = [0.0] + [float(r.real) for r in np.roots(np.polyder(quartic))
+                          if abs(r.imag) <= 1e-12 * dt and abs(r.real) <= dt]
+    s_m = max(candidates, key=lambda s: np.polyval(quartic, s))
     return CollisionMetrics(
-        t_start=float(t_s), delta_max=float(d_m), t_max=float(t_m),
+        t_start=float(t_s), delta_max=float(np.polyval(quartic, s_m)), t_max=float(t0 + s_m),
         T_x0=float(t_x0 - t_s), eps_x0=float(eps_x0),
         T_F0=float(t_f0 - t_s), eps_F0=float(eps_f0), samples_in_contact=int(i_x - i_s),
+        start_phase=_phase(t_s, t[0], dt), end_phase=_phase(t_x0, t[0], dt),
     )

@@ -1,13 +1,20 @@
 """The study's gate: one check per engine build x gated law x geometry x criterion x quantity.
 
-A check is made for every combination the plans asked for, whether or not its runs landed:
+A gated run is a ladder of runs at several time steps (`engines.ladder`), judged by its limit
+dt -> 0 (`postprocess.extrapolation`: the extrapolated error e and its resolution r, the
+smallest error the ladder can tell from zero). A check is made for every combination the plans
+asked for, whether or not its runs landed:
 
-    pass  <=>  every planned run of the group landed, none failed, and
-               max over its runs of |q_engine / q_reference - 1| <= tolerance[q]    (q = T, A, eps)
+    pass  <=>  every planned ladder of the group landed (all its rungs), none failed or is
+               misaligned, and for every ladder  |e_q| + r_q <= tolerance[q]   (q = T, A, eps)
 
-So a run that crashed, hung or left no result fails its checks (it can never hide as a missing
-row), a NaN error fails, and a study with no check at all is not a PASS. The verdict goes to
-`verdict.json` (read by the `gate` rule) and to JUnit XML (one test case per check, read by CI).
+so a PASS is a claim the study can back: the engine's error is within the tolerance even at the
+far end of what the ladder leaves open. A ladder with |e_q| - r_q > tolerance fails: the error is
+resolved, and too large. One in between fails as unresolved: the study cannot tell at this
+tolerance (its reason says so). A run that crashed, hung or left no result fails its ladder's
+checks (it can never hide as a missing row), a NaN error fails, and a study with no check at
+all is not a PASS. The verdict goes to `verdict.json` (read by the `gate` rule) and to JUnit XML
+(one test case per check, read by CI).
 
 Files are written atomically (a temporary file, then `os.replace`), so a reader sees the old
 file or the new one, never half of one.
@@ -29,9 +36,12 @@ from .verdict_files import write_atomically
 GATED_QUANTITIES = ("T", "A", "eps")
 GROUP = ["build", "law", "geometry", "criterion"]
 #: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
-#: or is reported only (an engine's regression cases, `regression_checks`).
+#: or is reported only (an engine's regression cases, `regression_checks`). For the ladder with
+#: the largest |extrapolated error| (max_abs_error, at_K, case, at_run): its observed order, its
+#: rungs' T_e / dt and raw errors (coarsest first); resolution is the largest of the group's.
 CHECK_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "quantity", "planned", "landed", "failed",
-                 "max_abs_error", "at_K", "case", "at_run", "tolerance", "pass", "reason", "gates"]
+                 "max_abs_error", "resolution", "at_K", "case", "at_run", "tolerance", "pass", "reason", "gates",
+                 "observed_order", "rung_factors", "rung_errors"]
 
 
 def with_build(df: pd.DataFrame) -> pd.DataFrame:
@@ -42,22 +52,50 @@ def with_build(df: pd.DataFrame) -> pd.DataFrame:
     return df.assign(build=df["engine"])
 
 
+def limit_rows(table: pd.DataFrame) -> pd.DataFrame:
+    """The rows of summary.csv the gate judges: the ladders' limits (dt = 0) of the gated laws.
+    A table from before ladders (no dt = 0 row) is judged run by run, each run its own ladder
+    with resolution 0."""
+    table = with_build(table)
+    if not len(table):
+        return table
+    gated = table[table.law.isin(GATED_LAWS)]
+    if "dt" in gated.columns and (gated.dt == 0).any():
+        return gated[gated.dt == 0]
+    return gated.assign(ladder=gated["run"] if "run" in gated.columns else [f"row-{i}" for i in range(len(gated))])
+
+
 def planned_groups(plan_runs: pd.DataFrame) -> pd.DataFrame:
     """The gated runs of the plans, one row per run and criterion it represents.
 
     Parameters
     ----------
     plan_runs : DataFrame
-        One row per planned run: case, name, engine, law, geometry, represents (list of criteria).
+        One row per planned run: case, name, engine, law, geometry, represents (list of criteria)
+        and ladder (the ladder it is a rung of; a plan without it: each run its own).
 
     Returns
     -------
-    DataFrame with columns case, run, engine, law, geometry, criterion.
+    DataFrame with columns case, run, ladder, engine, build, law, geometry, criterion.
     """
+    columns = ["case", "run", "ladder", "engine", *GROUP]
     if plan_runs.empty:
-        return pd.DataFrame(columns=["case", "run", "engine", *GROUP])
+        return pd.DataFrame(columns=columns)
     gated = with_build(plan_runs)[plan_runs.law.isin(GATED_LAWS)].explode("represents")
-    return gated.rename(columns={"name": "run", "represents": "criterion"})[["case", "run", "engine", *GROUP]]
+    if "ladder" not in gated.columns:
+        gated = gated.assign(ladder=gated["name"])
+    return gated.rename(columns={"name": "run", "represents": "criterion"})[columns]
+
+
+def judge(error: float, resolution: float, tolerance: float) -> str:
+    """'pass' when |error| + resolution <= tolerance, 'fail' when |error| - resolution >
+    tolerance (resolved), 'unresolved' between, 'nan' when the error is NaN."""
+    if math.isnan(error):
+        return "nan"
+    r = 0.0 if math.isnan(resolution) else resolution
+    if abs(error) + r <= tolerance:
+        return "pass"
+    return "fail" if abs(error) - r > tolerance else "unresolved"
 
 
 def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.DataFrame,
@@ -67,64 +105,90 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
     Parameters
     ----------
     table : DataFrame
-        summary.csv: one row per landed run and criterion, with columns run, case, K, the GROUP
-        columns and err_T, err_A, err_eps (relative errors, engine vs reference).
+        summary.csv: one row per landed run and criterion, and one per ladder and criterion with
+        dt = 0 (`postprocess.extrapolation`): columns run, case, K, the GROUP columns, err_T,
+        err_A, err_eps (relative errors, engine vs reference), resolution_T, ... and problem.
     plan_runs : DataFrame
         The planned runs (see `planned_groups`).
     failed_runs : DataFrame
         Runs the engine did not complete: columns run, problem, log.
     tolerance : dict
-        Relative tolerance per quantity, e.g. ``{"T": 5e-4, "A": 5e-4, "eps": 5e-4}``.
+        Relative tolerance per quantity, e.g. ``{"T": 1e-6, "A": 1e-6, "eps": 1e-6}``.
 
     Returns
     -------
-    DataFrame, one row per check, sorted by GROUP and quantity: the GROUP columns, quantity,
-    planned, landed, failed (run counts), max_abs_error (NaN without a result), at_K, case and
-    at_run (the K, case and run name of that largest error; NaN/empty without a result),
-    tolerance, pass (bool) and reason (why it failed; empty when it passed).
+    DataFrame, one row per check, sorted by GROUP and quantity, with the columns CHECK_COLUMNS:
+    planned, landed, failed count ladders; max_abs_error is the largest |extrapolated error|
+    (NaN without a result), at_K, case and at_run (the ladder's name) say where; resolution is
+    the largest resolution of the group's ladders; pass (bool) and reason (why it failed; empty
+    when it passed).
     """
     planned = planned_groups(plan_runs)
-    table = with_build(table)
-    landed = table[table.law.isin(GATED_LAWS)] if len(table) else table
-    code_of_build = {**dict(zip(landed.build, landed.engine)), **dict(zip(planned.build, planned.engine))} \
-        if len(landed) else dict(zip(planned.build, planned.engine))
+    limits = limit_rows(table)
+    code_of_build = {**(dict(zip(limits.build, limits.engine)) if len(limits) else {}),
+                     **dict(zip(planned.build, planned.engine))}
     failed_runs = failed_runs if len(failed_runs) else pd.DataFrame(columns=["run", "problem", "log"])
     failed = planned.merge(failed_runs[["run", "problem", "log"]], on="run", how="inner")
     keys = sorted(set(map(tuple, planned[GROUP].to_numpy())) |
-                  (set(map(tuple, landed[GROUP].to_numpy())) if len(landed) else set()))
+                  (set(map(tuple, limits[GROUP].to_numpy())) if len(limits) else set()))
     rows = []
     for key in keys:
-        sel_plan, sel, sel_failed = (_of_group(df, key) for df in (planned, landed, failed))
-        n_planned, n_landed, n_failed = len(sel_plan), len(sel), len(sel_failed)
-        missing = sorted(set(sel_plan.run) - set(sel.run if len(sel) else ()) - set(sel_failed.run))
+        sel_plan, sel, sel_failed = (_of_group(df, key) for df in (planned, limits, failed))
+        ladders = list(dict.fromkeys(sel_plan.ladder if len(sel_plan) else sel.ladder if len(sel) else ()))
+        failed_ladders = list(dict.fromkeys(sel_failed.ladder))
+        sel = sel[~sel.ladder.isin(failed_ladders)] if len(sel) else sel
+        n_planned, n_landed, n_failed = len(ladders), len(sel), len(failed_ladders)
+        missing = [x for x in ladders if x not in set(sel.ladder if len(sel) else ()) and x not in failed_ladders]
+        problems = ([p for p in sel["problem"].fillna("").astype(str) if p] if len(sel) and "problem" in sel.columns
+                    else [])
         for q in GATED_QUANTITIES:
-            row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q, "planned": n_planned, "landed": n_landed,
-                   "failed": n_failed, "max_abs_error": math.nan, "at_K": math.nan, "case": "", "at_run": "",
-                   "tolerance": float(tolerance[q]), "pass": False, "reason": ""}
-            if n_landed:
-                errors = np.abs(sel[f"err_{q}"].to_numpy(dtype=float))
-                bad = np.isnan(errors)
-                i = int(np.nanargmax(errors)) if not bad.all() else 0
-                row.update(max_abs_error=float(errors[i]), at_K=float(sel.K.iloc[i]), case=str(sel.case.iloc[i]),
-                           at_run=str(sel.run.iloc[i]) if "run" in sel.columns else "")
+            row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q,
+                   "planned": n_planned, "landed": n_landed, "failed": n_failed, "max_abs_error": math.nan,
+                   "resolution": math.nan, "at_K": math.nan, "case": "", "at_run": "",
+                   "tolerance": float(tolerance[q]), "pass": False, "reason": "", "gates": True,
+                   "observed_order": math.nan, "rung_factors": "", "rung_errors": ""}
             reasons = []
+            if n_landed:
+                errors = sel[f"err_{q}"].to_numpy(dtype=float)
+                res = (sel[f"resolution_{q}"].to_numpy(dtype=float) if f"resolution_{q}" in sel.columns
+                       else np.zeros(len(sel)))
+                res = np.where(np.isnan(res), 0.0, res)
+                i = int(np.nanargmax(np.abs(errors))) if not np.isnan(errors).all() else 0
+                worst = sel.iloc[i]
+                row.update(max_abs_error=float(abs(errors[i])), resolution=float(res.max()), at_K=float(worst.K),
+                           case=str(worst.case), at_run=str(worst.ladder),
+                           observed_order=float(worst.get(f"order_{q}", math.nan)),
+                           rung_factors=str(worst.get("rung_factors", "")) if pd.notna(worst.get("rung_factors", "")) else "",
+                           rung_errors=str(worst.get(f"rungs_{q}", "")) if pd.notna(worst.get(f"rungs_{q}", "")) else "")
+                outcomes = [judge(e, r, tolerance[q]) for e, r in zip(errors, res)]
+                # the ladders that fail, the one that fails by most first
+                order = np.argsort(-(np.abs(np.nan_to_num(errors, nan=np.inf)) + res))
+                for j in order:
+                    if outcomes[j] == "fail":
+                        reasons.append(f"{abs(errors[j]):.3e} > {tolerance[q]:g} (resolution {res[j]:.1e}; "
+                                       f"case {sel.case.iloc[j]}, K = {sel.K.iloc[j]:.4g})")
+                    elif outcomes[j] == "unresolved":
+                        reasons.append(f"not resolved at this tolerance: {abs(errors[j]):.3e} with resolution "
+                                       f"{res[j]:.1e} straddles {tolerance[q]:g} (case {sel.case.iloc[j]}, "
+                                       f"K = {sel.K.iloc[j]:.4g})")
+                    if len(reasons) == 1:
+                        break
+                if "nan" in outcomes:
+                    reasons.append("a run's error is NaN (the engine gave no value for this criterion)")
+            if problems:
+                reasons.append(problems[0])
             if n_failed:
                 first = sel_failed.iloc[0]
-                reasons.append(f"{n_failed} of {n_planned} runs failed; first: {first.run}: {first.problem} "
-                               f"(engine log: {first.log})")
+                reasons.append(f"{n_failed} of {n_planned} ladders have a failed run; first: {first.run}: "
+                               f"{first.problem} (engine log: {first.log})")
             if missing:
-                reasons.append(f"{len(missing)} of {n_planned} planned runs have no result (first: {missing[0]})")
-            if n_landed and np.isnan(np.abs(sel[f"err_{q}"].to_numpy(dtype=float))).any():
-                reasons.append("a run's error is NaN (the engine gave no value for this criterion)")
+                reasons.append(f"{len(missing)} of {n_planned} planned ladders have no result (first: {missing[0]})")
             if n_landed == 0 and not reasons:
                 reasons.append("no run landed")
-            if n_landed and not math.isnan(row["max_abs_error"]) and row["max_abs_error"] > row["tolerance"]:
-                reasons.insert(0, f"{row['max_abs_error']:.3e} > {row['tolerance']:g} "
-                                  f"(case {row['case']}, K = {row['at_K']:.4g})")
             row["pass"] = not reasons
             row["reason"] = "; ".join(reasons)
             rows.append(row)
-    return pd.DataFrame([{**r, "gates": True} for r in rows], columns=CHECK_COLUMNS)
+    return pd.DataFrame(rows, columns=CHECK_COLUMNS)
 
 
 def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFrame:

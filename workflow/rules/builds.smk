@@ -52,5 +52,5 @@ def build_params(build_id):
 
 # What the plan depends on: the builds by id and code (not where their executables live).
 SETTINGS = {"builds": [{"id": b.id, "code": b.code} for b in BUILDS.values()],
-            **{k: config[k] for k in ("laws", "K_grid", "time_step_factor", "default_law_match_K",
+            **{k: config[k] for k in ("laws", "K_grid", "ladder", "time_step_factor", "default_law_match_K",
                                       "max_overlap_ratio", "engine_timeout_floor_s")}}

@@ -35,7 +35,7 @@ for _stem, _path in CASES.items():
     _case = load_case(_path)
     PLANS[_stem] = plan_listing(_case, plan_runs(
         _case, SETTINGS["builds"], config["laws"], config["K_grid"], config["time_step_factor"],
-        config["default_law_match_K"], config["max_overlap_ratio"]))
+        config["default_law_match_K"], config["max_overlap_ratio"], ladder=config["ladder"]))
     _case_name = _case.name
     if _case_name in _names:
         raise ValueError(f"{_path}: field 'name': {_case_name!r} is already the name of {_names[_case_name]}")

@@ -1,8 +1,10 @@
 """Snakemake script: one case's dumps beside the reference and the paper's series (tidy CSV).
 
-Every dump is verified against the sha256 its engine job recorded; a changed, truncated or
-unreadable dump stops the rule naming the file. The `dump` column is relative to the results
-folder, so that summaries do not depend on where the project lives.
+One row per run and criterion, then one row per ladder and criterion with dt = 0: the rungs'
+errors extrapolated to dt -> 0, with their resolution (postprocess.extrapolation), which the
+gate judges. Every dump is verified against the sha256 its engine job recorded; a changed,
+truncated or unreadable dump stops the rule naming the file. The `dump` column is relative to
+the results folder, so that summaries do not depend on where the project lives.
 """
 
 import json
@@ -13,6 +15,7 @@ import pandas as pd
 
 from common import start_rule
 from postprocess.comparison import comparison_rows
+from postprocess.extrapolation import extrapolated_rows
 from postprocess.run_manifest import manifest_dumps
 
 log = start_rule(snakemake)
@@ -27,7 +30,8 @@ for path, meta, _, m in loaded:
 # With no dump at all (every run failed) the table still has its columns: the gate then fails
 # every planned check by name instead of the summary rule failing on an empty file.
 table = pd.DataFrame(rows) if rows else pd.DataFrame(columns=["case", "build", "engine", "engine_version", "law", "geometry",
-                                                               "criterion", "V", "K", "err_T", "err_A", "err_eps",
-                                                               "run", "dump"])
+                                                               "criterion", "V", "K", "dt", "err_T", "err_A", "err_eps",
+                                                               "run", "dump", "ladder"])
+table = pd.concat([table, extrapolated_rows(table)], ignore_index=True)
 table.to_csv(snakemake.output[0], index=False, float_format="%.12g")
-log.info("%d rows from %d dumps", len(table), len(loaded))
+log.info("%d rows from %d dumps (%d of them ladder limits, dt = 0)", len(table), len(loaded), int((table.dt == 0).sum()))

@@ -36,8 +36,9 @@
 # that the force is exactly the plane's for this head-on impact (see engines/esys.py).
 #
 # Overlap: r1 + r2 - (x2 - x1), with ESyS's positions. The host starts the bodies half a step
-# more than a whole number of steps apart (engines/esys.py): a sample exactly at touching would
-# carry a rounding-level overlap whose force (~delta^{3/2}) changes no velocity by even one ulp.
+# more than a whole number of steps apart (engines.ladder.START_PHASE, for every engine): a
+# sample exactly at touching would carry a rounding-level overlap whose force (~delta^{3/2})
+# changes no velocity by even one ulp.
 #
 # Time: ESyS integrates with symplectic Euler (Model/Particle.cpp, CParticle::integrate):
 # F_n = F(x_n, v_n); v_{n+1} = v_n + F_n dt / m; x_{n+1} = x_n + v_{n+1} dt. So v_n is the

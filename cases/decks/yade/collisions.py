@@ -91,7 +91,8 @@ def after_contact_forces():
             O.forces.addF(b, (f_d, 0, 0))
     force = -O.forces.f(a)[0]  # the repulsive normal force on A points to -x
     rate_full = rate_half - force * O.dt / (2.0 * run["M"])
-    S["rows"].append("%.17g,%.17g,%.17g,%.17g" % (O.time, overlap, rate_full, force))
+    # k dt, not O.time: YADE adds dt to O.time every step, a sum that drifts from k dt by rounding
+    S["rows"].append("%.17g,%.17g,%.17g,%.17g" % (O.iter * O.dt, overlap, rate_full, force))
 
 
 status = {"engine_version": "YADE %s (%s)" % (yade.config.version, yade.config.highPrecisionName),
