@@ -152,8 +152,8 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         },
         notes=(
             "ESyS has no Hertzian wall (its walls are linear springs): the plane is a fixed (non-dynamic) "
-            "sphere of radius 1000 R, its contact modulus scaled by sqrt(R / R*_esys) = sqrt(1.001) so that "
-            "E sqrt(R*) is the plane's: the force of a head-on impact is the sphere-plane force, exactly "
+            "sphere of the hitting sphere's radius R, its contact modulus scaled by sqrt(R / R*_esys) = sqrt(2) so "
+            "that E sqrt(R*) is the plane's: the force of a head-on impact is the sphere-plane force, exactly "
             "(contact_model.engine_parameters.esys_plane_as_sphere).",
             "A sweep runs in one ESyS process (mpirun -np 2: a master and a worker); each run has its own "
             "particles and tagged interaction group in one LsmMpi.",

@@ -34,6 +34,7 @@ from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa
 from .gate import GATED_QUANTITIES, gating, with_build  # noqa: E402
 from .report_matrix import (build_order, default_law_cells, default_matrix_html, default_matrix_markdown,  # noqa: E402
                             matrix_cells, matrix_html, matrix_markdown)
+from .report_resolution import ladder_settings, plot_ladders, resolution_sentence  # noqa: E402
 from .verdict_files import write_atomically  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
@@ -136,8 +137,9 @@ def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=N
 
 
 def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -> None:
-    """|relative error| against K, one row of panels per criterion (x0, F0) and one column per
-    quantity; builds as in `plot_ratios`; the tolerance as a line."""
+    """|relative error| (extrapolated to dt -> 0) against K, one row of panels per criterion
+    (x0, F0) and one column per quantity; builds as in `plot_ratios`; each point's resolution as
+    a grey bar from the point up to |error| + resolution; the tolerance as a line."""
     runs = table[table.law.isin(GATED_LAWS)]
     present = _builds(runs, builds)
     styles = build_styles(build_order(builds, table))
@@ -148,10 +150,12 @@ def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -
                 for geometry in GEOMETRY_DOT:
                     sel = runs[(runs.build == build) & (runs.geometry == geometry) & (runs.criterion == criterion)]
                     if len(sel):
-                        _plot_points(ax, sel.K, np.abs(sel[f"err_{q}"]).clip(lower=1e-12), styles[build], geometry,
-                                     semilogy=True)
+                        e = np.abs(sel[f"err_{q}"]).clip(lower=1e-12)
+                        if f"resolution_{q}" in sel.columns:
+                            ax.vlines(sel.K, e, e + sel[f"resolution_{q}"].fillna(0.0), color="0.75", lw=3, zorder=0)
+                        _plot_points(ax, sel.K, e, styles[build], geometry, semilogy=True)
             ax.axhline(tolerance[q], color="k", ls=":", label="tolerance")
-            ax.set_title(f"criterion {criterion}: |{q}_engine / {q}_reference - 1|", fontsize=10)
+            ax.set_title(f"criterion {criterion}: |{q}_engine / {q}_reference - 1| at dt -> 0", fontsize=10)
             ax.grid(alpha=0.3, which="both")
     for ax in axes[-1]:
         ax.set_xlabel("K")
@@ -221,23 +225,37 @@ def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:
     return "\n".join(lines)
 
 
-def findings(table: pd.DataFrame, series_cmp: pd.DataFrame) -> list[str]:
-    """Short statements computed from the results (numbers, not adjectives)."""
+def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.DataFrame | None = None) -> list[str]:
+    """Short statements computed from the results (numbers, not adjectives). `table` holds the
+    gated laws' ladder limits (dt = 0) and the other laws' runs; `ladder_runs` the gated rungs."""
     out = []
     gated = table[table.law.isin(GATED_LAWS)]
     if len(gated):
         e = np.abs(gated[[f"err_{q}" for q in GATED_QUANTITIES]].to_numpy())
-        out.append(f"The gated runs ({len(gated)} run x criterion rows) agree with the reference solver to "
-                   f"a median relative error of {np.median(e):.1e} and at most {e.max():.1e} in T, A and eps.")
+        out.append(f"Extrapolated to dt -> 0, the gated ladders ({len(gated)} ladder x criterion limits) agree with "
+                   f"the reference solver to a median relative error of {np.median(e):.1e} and at most {e.max():.1e} "
+                   "in T, A and eps.")
         both = gated[gated.law == "viscoelastic"]
         if both.build.nunique() >= 2:
             piv = both.pivot_table(index=["case", "geometry", "criterion", "K"], columns="build", values="err_eps")
             piv = piv.dropna()
             if len(piv):
                 gap = float((piv.max(axis=1) - piv.min(axis=1)).max())
-                out.append(f"The engines ({', '.join(piv.columns)}) agree with each other in eps to {gap:.1e} at the "
-                           "same K and time step: all damp with the half-step velocity, hence the same first-order "
-                           "error.")
+                out.append(f"The engines ({', '.join(piv.columns)}) agree with each other in eps to {gap:.1e} at "
+                           "dt -> 0 in every case, geometry and K.")
+    if ladder_runs is not None and len(ladder_runs) and ladder_runs.build.nunique() >= 2:
+        raw = ladder_runs[ladder_runs.law == "viscoelastic_clipped"]
+        if raw.build.nunique() >= 2:
+            piv = raw.pivot_table(index=["case", "geometry", "criterion", "K", "time_step_factor"], columns="build",
+                                  values="err_T").dropna()
+            if len(piv):
+                gap = float((piv.max(axis=1) - piv.min(axis=1)).max())
+                worst = float(piv.abs().max().max())
+                out.append(f"At each time step the builds' raw errors are one and the same ({', '.join(piv.columns)}, "
+                           f"clipped law: T errors up to {worst:.1e}, differing between builds by at most {gap:.1e}): "
+                           "velocity Verlet (LAMMPS, LIGGGHTS), leapfrog (YADE) and symplectic Euler (ESyS) are one "
+                           "discrete map on positions and half-step velocities, which damps with the velocity half a "
+                           "step old and is first-order in dt.")
     default = table[table.law == "default"]
     for build, group in default.groupby("build", sort=False):
         lo, hi = group.loc[group.K.idxmin()], group.loc[group.K.idxmax()]
@@ -274,7 +292,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                  table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None,
                  calibration: str | None = None, reference: pd.DataFrame | None = None,
                  builds: list[str] | None = None, not_available=(), code_notes: dict | None = None,
-                 workers: int = 1) -> None:
+                 workers: int = 1, ladder: dict | None = None) -> None:
     """Write report.md, report.html and the plots into out_dir (the plots in `workers` processes,
     `start_drawing`).
 
@@ -287,9 +305,18 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     K grid (results/reference/collisions.csv) for the curves of the plots; builds: the build ids
     in config order (the matrix's rows and the plots' styles); not_available: the plans'
     ``not_available`` cells (build, engine, law, geometry, reason); code_notes: {code: notes}
-    (`engines.codes.EngineCode.notes`) of the builds' codes, printed under the matrix.
+    (`engines.codes.EngineCode.notes`) of the builds' codes, printed under the matrix; ladder:
+    config `ladder` (the time steps of the gated runs, described in the report).
+
+    The gated laws are shown by their ladders' limits (summary rows with dt = 0), the
+    out-of-the-box laws by their runs.
     """
     table = with_build(table)
+    full = table
+    is_limit = (table.dt == 0) if "dt" in table.columns else pd.Series(False, index=table.index)
+    ladder_runs = table[~is_limit & table.law.isin(GATED_LAWS)]
+    limits = table[is_limit]
+    table = table[is_limit | ~table.law.isin(GATED_LAWS)] if is_limit.any() else table
     out_dir = Path(out_dir)
     plots = out_dir / "plots"
     plots.mkdir(parents=True, exist_ok=True)
@@ -304,6 +331,8 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                     (plot_ratios, (table, "F0", plots / "ratios_F0.png", curve, builds))]
     if has_rows and (table.law == "default").any():
         figures.append((plot_default_laws, (table, plots / "default_laws.png", curve, builds)))
+    if len(limits) and len(ladder_runs):
+        figures.append((plot_ladders, (ladder_runs, limits, tolerance, plots / "ladders.png", builds)))
     figures_drawn = start_drawing(figures, workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
     default_cells = default_law_cells(table, not_available, builds) if has_rows else default_law_cells(
@@ -317,12 +346,15 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
         "checks (engine build x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs reference): "
         + ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES) + ".", "",
     ]
+    sentence = resolution_sentence(gating(checks), tolerance)
+    if sentence:
+        lines += [sentence, ""]
     if verdict["verdict"] != "PASS":
         lines += ["Failing checks:", ""] + [f"- {f}" for f in verdict["failures"]] + [""]
     lines += [f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `results/summary.csv` "
-              f"({len(table)} rows: one per engine run and end-of-collision criterion; sha256 "
-              f"{verdict['summary_sha256'][:12]}…). Machine-readable: `verdict.json`, `junit.xml` (one test case "
-              "per check).", ""]
+              f"({len(full) - len(limits)} rows of engine runs, one per run and end-of-collision criterion, and "
+              f"{len(limits)} of ladder limits, dt = 0; sha256 {verdict['summary_sha256'][:12]}…) and "
+              "`results/checks.csv`. Machine-readable: `verdict.json`, `junit.xml` (one test case per check).", ""]
     if has_rows:
         versions = table.groupby(["build", "engine"], sort=False).engine_version.unique()
         lines += ["## Engines", "", "Every engine build (config `builds:`) runs the same cases, laws, geometries and "
@@ -333,14 +365,20 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
               "Rows: engine builds; columns: contact law, geometry, end-of-collision criterion. Laws: viscoelastic "
               "with the attractive tail kept (criteria x0 and F0 from one trajectory), viscoelastic clipped at zero "
               "force (F0 only), elastic (eta = 0: Hertz alone). A cell fails when any of its checks (T, A, eps) "
-              "exceeds its tolerance, or when one of its runs failed or left no result. Hover a cell of report.html "
-              "for the worst quantity, case, K and run, and the reason of a failure.", "", MATRIX, ""]
+              "exceeds its tolerance once its resolution is added, or when one of its runs failed or left no "
+              "result. Hover a cell of report.html for the worst quantity, case, K and run, and the reason of a "
+              "failure.", "", ladder_settings(ladder), "", MATRIX, ""]
     if has_rows:
         lines += ["## Against K", "", ("Every engine build a marker and colour of its own (hollow; a dot at the centre: sphere-plane), "
                   "smaller along the build list, so that builds that agree show as nested markers; the reference "
                   "solver as a line, the paper's series dashed."),
                   "", "![criterion x0](plots/ratios_x0.png)", "", "![criterion F0](plots/ratios_F0.png)", "",
+                  "The errors of the gated laws extrapolated to dt -> 0, each with its resolution (grey bar):", "",
                   "![errors](plots/errors.png)", ""]
+        if len(limits) and len(ladder_runs):
+            lines += ["Every gated ladder, rung by rung: the part of each rung's error that the extrapolation "
+                      "removes (`rungs_T`, `rungs_A`, `rungs_eps` of the ladder's limit row in summary.csv).", "",
+                      "![ladders](plots/ladders.png)", ""]
     if has_rows and (table.law == "default").any():
         d = table[table.law == "default"]
         drift = d.groupby(["build", "geometry", "criterion"]).agg(
@@ -385,7 +423,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     if calibration is not None:
         lines += _calibration_section(calibration)
     if has_rows:
-        lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, series_cmp)] + [""]
+        lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, series_cmp, ladder_runs)] + [""]
     if timing:
         lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
     text = "\n".join(lines)

@@ -29,7 +29,7 @@ from .gate import GATED_QUANTITIES, with_build
 CRITERIA = ("x0", "F0")
 #: The columns of a matrix cell (`matrix_cells`), in order.
 CELL_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "status", "worst_error", "worst_quantity",
-                "tolerance", "failing", "case", "at_K", "at_run", "reason"]
+                "tolerance", "failing", "case", "at_K", "at_run", "reason", "resolution"]
 #: What the cell's status is shown as (the text carries it, not the colour alone).
 SYMBOL = {"pass": "✔", "fail": "✘", "n/a": "n/a", "none": "–"}
 
@@ -79,7 +79,7 @@ def not_available_cells(not_available, law_criteria: Mapping[str, Sequence[str]]
     na = na[na.law.isin(list(law_criteria))].drop_duplicates(["build", "law", "geometry"])
     rows = [{"build": r.build, "engine": r.engine, "law": r.law, "geometry": r.geometry, "criterion": c,
              "status": "n/a", "worst_error": math.nan, "worst_quantity": "", "tolerance": math.nan, "failing": "",
-             "case": "", "at_K": math.nan, "at_run": "", "reason": str(r.reason)}
+             "case": "", "at_K": math.nan, "at_run": "", "reason": str(r.reason), "resolution": math.nan}
             for r in na.itertuples() for c in law_criteria[r.law]]
     return pd.DataFrame(rows, columns=CELL_COLUMNS)
 
@@ -118,7 +118,9 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
     - failing: the failing quantities, comma-separated in T, A, eps order ('' if none);
     - case, at_K, at_run: the case, K and run name where worst_error occurs;
     - reason: the reasons of the failing checks, each prefixed with its quantity
-      ('T: 6.0e-04 > 0.0005 ...'), or the code's reason for an n/a cell; '' for a pass.
+      ('T: 6.0e-04 > 0.0005 ...'), or the code's reason for an n/a cell; '' for a pass;
+    - resolution: the largest resolution of the cell's checks (NaN without one: a checks table
+      from before ladders).
     """
     checks = with_build(checks)
     cells = []
@@ -141,7 +143,10 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
                           "at_K": math.nan if worst is None else float(worst.at_K),
                           "at_run": "" if worst is None or "at_run" not in group.columns
                           or pd.isna(worst.at_run) else str(worst.at_run),
-                          "reason": "; ".join(reasons)})
+                          "reason": "; ".join(reasons),
+                          "resolution": (float(np.nanmax(group.resolution.to_numpy(dtype=float)))
+                                         if "resolution" in group.columns
+                                         and not group.resolution.isna().all() else math.nan)})
     gated = pd.DataFrame(cells, columns=CELL_COLUMNS)
     na = not_available_cells(not_available, law_criteria)
     if len(na) and len(gated):
@@ -158,15 +163,21 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
 
 
 def cell_text(cell) -> str:
-    """What a cell shows: '✔ 1.2e-05', '✘ 6.0e-04 (T)' (the failing quantities), '✘ no result',
-    'n/a', or '–' for a cell of a build that has none (neither planned nor unavailable)."""
+    """What a cell shows: '✔ 4.1e-09 (res 1.6e-07)' (the worst extrapolated error and the
+    resolution it was judged at), '✘ 4.0e-06 (res 1.6e-07; T, A)' (with the failing quantities),
+    '✘ no result', 'n/a', or '–' for a cell of a build that has none (neither planned nor
+    unavailable)."""
     status = cell["status"]
     if status in ("n/a", "none"):
         return SYMBOL[status]
     error = cell["worst_error"]
-    number = "no result" if error is None or (isinstance(error, float) and math.isnan(error)) else f"{error:.1e}"
-    failing = f" ({cell['failing']})" if status == "fail" and cell["failing"] and number != "no result" else ""
-    return f"{SYMBOL[status]} {number}{failing}"
+    if error is None or (isinstance(error, float) and math.isnan(error)):
+        return f"{SYMBOL[status]} no result"
+    resolution = cell.get("resolution", math.nan)
+    notes = [] if resolution is None or math.isnan(resolution) else [f"res {resolution:.1e}"]
+    if status == "fail" and cell["failing"]:
+        notes.append(cell["failing"])
+    return f"{SYMBOL[status]} {error:.1e}" + (f" ({'; '.join(notes)})" if notes else "")
 
 
 def matrix_columns(cells: pd.DataFrame) -> list[tuple[str, str, str]]:
@@ -211,8 +222,10 @@ def cell_title(cell) -> str:
     largest = ""
     if cell["worst_quantity"]:
         run = f"in run {cell['at_run']} " if cell["at_run"] else ""
-        largest = (f"largest error: {cell['worst_quantity']} {cell['worst_error']:.3e} (tolerance "
-                   f"{cell['tolerance']:g}) {run}(case {cell['case']}, K = {cell['at_K']:.4g})")
+        resolution = cell.get("resolution", math.nan)
+        judged = "" if resolution is None or math.isnan(resolution) else f", judged at a resolution of {resolution:.1e}"
+        largest = (f"largest extrapolated error: {cell['worst_quantity']} {cell['worst_error']:.3e} (tolerance "
+                   f"{cell['tolerance']:g}{judged}) {run}(case {cell['case']}, K = {cell['at_K']:.4g})")
     if status == "pass":
         return "pass — " + (largest or "T, A and eps within tolerance")
     return "FAIL — " + "; ".join(filter(None, [cell["reason"], largest]))
@@ -264,9 +277,11 @@ def legend(tolerance: Mapping[str, float], na: bool = True, none: bool = True) -
     """The matrix's legend (Markdown); the n/a and '–' entries only where the matrix has such
     cells (`na`, `none`)."""
     tolerances = ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES)
-    return (f"✔ pass: T, A and eps all within tolerance ({tolerances}); ✘ fail, with the failing quantities in "
-            "brackets; the number is the cell's worst |relative error| over T, A and eps, every case and every K "
-            "(engine vs reference solver)."
+    return (f"✔ pass: T, A and eps all within tolerance ({tolerances}) with their resolution added; ✘ fail, with "
+            "the failing quantities in brackets. The number is the cell's worst |relative error| over T, A and eps, "
+            "every case and every K, engine extrapolated to dt -> 0 vs reference solver; res: the largest "
+            "resolution of its checks (the smallest error the cell's ladders can tell from zero: the larger of "
+            "the extrapolation's own error bound and the round-off of positions)."
             + (" n/a: the build's code cannot express the law (the reasons below)." if na else "")
             + (" – : the build has no run in that cell." if none else "")
             + " Every check, with the K, case and run of its worst error: [checks.csv](checks.csv).")

@@ -38,7 +38,7 @@ rule report:
         junit="results/junit.xml",
         verdict="results/verdict.json",
     log: "logs/report.log"
-    params: tolerance=config["tolerance"], builds={b: build_params(b) for b in BUILD_IDS}
+    params: tolerance=config["tolerance"], builds={b: build_params(b) for b in BUILD_IDS}, ladder=config["ladder"]
     # Its plots are drawn in two processes (postprocess.report.start_drawing): it runs last, when
     # every other job is done (only the gate and the build comparison wait for it).
     threads: 2

@@ -45,7 +45,8 @@ optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of 
 out = Path(snakemake.output.md).parent
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
 write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, builds=builds,
-             not_available=not_available, code_notes=code_notes, workers=snakemake.threads, **optional)
+             not_available=not_available, code_notes=code_notes, workers=snakemake.threads,
+             ladder=snakemake.params.ladder, **optional)
 write_junit(checks, snakemake.output.junit)
 write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
 log.info("verdict: %s (%d checks, %d failing)", verdict["verdict"], verdict["checked"], verdict["failed"])

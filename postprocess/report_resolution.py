@@ -1,0 +1,96 @@
+"""What the report says of the study's resolution: the sentence beside the verdict, the ladder
+settings, and the figure of every gated ladder.
+
+Every number comes from checks.csv (the checks' resolutions) and summary.csv (the rungs and the
+ladders' limits), so that a reader can redo it from those two tables.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+from .gate import GATED_QUANTITIES  # noqa: E402
+
+
+def resolution_sentence(checks: pd.DataFrame, tolerance: dict) -> str:
+    """One sentence: the tolerance the gate resolves, the range of the checks' resolutions, and
+    the smallest engine error the study can see (the largest resolution of any check) and the
+    error that fails for certain (tolerance + that resolution). '' without resolutions."""
+    if not len(checks) or "resolution" not in checks.columns:
+        return ""
+    res = checks.resolution.to_numpy(dtype=float)
+    res = res[np.isfinite(res)]
+    if not len(res):
+        return ""
+    per_q = checks.groupby("quantity").resolution.max()
+    tolerances = sorted({float(tolerance[q]) for q in GATED_QUANTITIES})
+    tol_text = " / ".join(f"{t:g}" for t in tolerances)
+    certain = ", ".join(f"{q} {tolerance[q] + per_q[q]:.2g}" for q in GATED_QUANTITIES if q in per_q)
+    return (f"**Resolution:** this study resolves relative errors of {tol_text} in T, A and eps: every gated run "
+            "is a ladder of time steps extrapolated to dt -> 0, and a check passes only when its error plus its "
+            f"resolution stays within the tolerance. Its {len(res)} gated checks were judged at resolutions of "
+            f"{res.min():.1e} to {res.max():.1e} (median {np.median(res):.1e}): the smallest engine error it can "
+            f"see is {res.max():.1e}, and an engine error above {certain} fails for certain.")
+
+
+def ladder_settings(ladder: dict | None) -> str:
+    """The ladders in words, from config `ladder`."""
+    if not ladder:
+        return ""
+    diss = ", ".join(f"T_e/{f:g}" for f in ladder["dissipative"])
+    elastic = ", ".join(f"T_e/{f:g}" for f in ladder["elastic"])
+    return (f"Ladders: the viscoelastic laws at dt = {diss} (each refined by sqrt(K) above K = 1), powers 1, 3/2, "
+            f"2 eliminated; the elastic law at dt = {elastic}, powers 2, 5/2 (`engines/ladder.py`). Every rung "
+            "starts contact half a step after a sample and puts its singular end (x0 with the tail, F0 when "
+            "clipped) a whole number of steps later.")
+
+
+def plot_ladders(runs: pd.DataFrame, limits: pd.DataFrame, tolerance: dict, path, builds=None) -> None:
+    """Every gated ladder: |rung error - its limit| against dt / T_e, one line per ladder and
+    criterion, coloured by build, a panel per quantity, with the slopes 1 and 2 the expansion
+    starts with; where the lines stop, the limit's resolution takes over (the tolerance dotted)."""
+    builds = [b for b in (builds or []) if b in set(runs.build)] + [b for b in pd.unique(runs.build)
+                                                                     if b not in set(builds or [])]
+    colours = {b: plt.get_cmap("tab10")(k % 10) for k, b in enumerate(builds)}
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
+    limit_of = {(r.ladder, r.criterion): r for r in limits.itertuples()}
+    for ax, q in zip(axes, GATED_QUANTITIES):
+        segments, colors = [], []
+        for (ladder, criterion), g in runs.groupby(["ladder", "criterion"], sort=False):
+            limit = limit_of.get((ladder, criterion))
+            if limit is None:
+                continue
+            g = g.sort_values("h")
+            dev = np.abs(g[f"err_{q}"].to_numpy(dtype=float) - getattr(limit, f"err_{q}")).clip(1e-14)
+            segments.append(np.column_stack([g.h.to_numpy(dtype=float), dev]))
+            colors.append(colours[g.build.iloc[0]])
+        ax.add_collection(LineCollection(segments, colors=colors, linewidths=0.6, alpha=0.5))
+        h = np.array([1 / 8000, 1 / 100])
+        for p, ls in ((1, "--"), (2, "-.")):
+            ax.plot(h, 1e-2 * (h / h[-1]) ** p, "k", ls=ls, lw=1, label=f"slope {p}")
+        res = limits[f"resolution_{q}"].to_numpy(dtype=float)
+        if np.isfinite(res).any():
+            ax.axhline(float(np.nanmax(res)), color="0.4", lw=1, label="largest resolution")
+        ax.axhline(tolerance[q], color="k", ls=":", label="tolerance")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlim(1 / 12000, 1 / 80)
+        ax.set_ylim(1e-12, 1e-1)
+        ax.set_xlabel("dt / T_e")
+        ax.set_title(f"|{q} error at a rung - its limit dt -> 0|", fontsize=10)
+        ax.grid(alpha=0.3, which="both")
+    handles = [Line2D([], [], color=colours[b], lw=2, label=b) for b in builds]
+    own, names = axes[0].get_legend_handles_labels()
+    axes[0].legend(handles + own, builds + names, fontsize=7, loc="lower right")
+    fig.suptitle("Every gated ladder: what the extrapolation removes from each rung (dissipative laws: slope 1; "
+                 "elastic: slope 2)", fontsize=11)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
