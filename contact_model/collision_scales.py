@@ -11,6 +11,9 @@ velocity V [m/s] (the paper's eqs. 1 and 3):
     V_D     = M*^2 E*^3 / (R* eta^5)                    viscous velocity            [m/s]
 
 so that K = alpha (V / V_D)^{1/5} and the velocity giving a target K is V = V_D (K/alpha)^5.
+
+DEM codes choose their time step as a fraction of the Rayleigh time of a particle (`rayleigh_time`),
+a property of the material and the radius alone (not of the impact).
 """
 
 from __future__ import annotations
@@ -60,3 +63,14 @@ def velocity_for_dissipation(E: float, R: float, M: float, eta: float, K: float)
 def viscosity_for_dissipation(E: float, R: float, M: float, V: float, K: float) -> float:
     """The viscosity that gives K at velocity V: eta = K M V / (2 sqrt(R) delta_e^{3/2})   [Pa s]."""
     return K * M * V / (2.0 * math.sqrt(R) * hertz_overlap(E, R, M, V) ** 1.5)
+
+
+def rayleigh_time(R: float, density: float, young: float, poisson: float) -> float:
+    """T_R = pi R sqrt(rho / G) / (0.1631 nu + 0.8766),  G = Y / (2 (1 + nu))   [s]:
+    the time a Rayleigh surface wave takes to cross half the surface of a sphere of radius R [m]
+    (density [kg/m^3], Young's modulus Y [Pa], Poisson's ratio nu; Li, Xu & Thornton 2005, the form
+    LIGGGHTS and EDEM use). Production DEM runs take dt = 10 % to 40 % of it."""
+    if not (R > 0 and density > 0 and young > 0 and -1 < poisson < 0.5):
+        raise ValueError(f"rayleigh_time needs R, density, Y > 0 and -1 < nu < 0.5, got {R}, {density}, {young}, {poisson}")
+    shear = young / (2.0 * (1.0 + poisson))
+    return math.pi * R * math.sqrt(density / shear) / (0.1631 * poisson + 0.8766)

@@ -94,6 +94,15 @@ class ContactPair:
             "V_D": self.viscous_velocity,
         }
 
+    def rayleigh_time(self) -> float:
+        """The Rayleigh time of the sphere (body 1) [s], `collision_scales.rayleigh_time`, of the
+        material the engines run: the body's Young's modulus and Poisson's ratio where the case
+        gives them, otherwise Y = 2 E* and nu = 0, what every engine is given (an E* alone fixes
+        no nu; with nu = 0, G = E*)."""
+        b = self.body_1
+        young, poisson = (b.young, b.poisson) if b.young is not None else (2.0 * self.E, 0.0)
+        return cs.rayleigh_time(b.radius, b.density, young, poisson)
+
     def critical_velocity(self, beta: float, criterion: str = "x0") -> float:
         """V_c(beta): the impact velocity below which phi_1 and phi_2 stay under beta [m/s],
         with the critical K from the reference solver (`reference.critical.critical_dissipation`)."""

@@ -326,14 +326,15 @@ def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunS
 
 
 def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, velocity: float,
-                     purpose: str, build: str = "", solved: dict | None = None) -> list[RunSpec]:
+                     purpose: str, build: str = "", solved: dict | None = None,
+                     every_law: bool = False) -> list[RunSpec]:
     """Runs of the case's material and geometries at one impact velocity, the viscosity set for
-    each K (K = 0: elastic), at every time-step factor (the convergence study, the paper's
-    Fig. 4). `purpose` tags the case name. The law is the model under test, 'viscoelastic'; a
-    code that cannot keep the attractive tail (`engines.codes`, ``unavailable``, e.g. ESyS) runs
-    'viscoelastic_clipped' (criterion F0 only) instead, and a code that cannot express the
-    viscoelastic force at all (e.g. Kratos) runs K = 0 alone, with its law 'elastic' (the same
-    Hertz force, eta = 0); its K > 0 runs are left out.
+    each K, at every time-step factor (the convergence study, the paper's Fig. 4). `purpose` tags
+    the case name. K = 0 runs the law 'elastic' (Hertz alone) in every code; K > 0 runs the
+    model under test, 'viscoelastic', or, in a code that cannot keep the attractive tail
+    (`engines.codes`, ``unavailable``, e.g. ESyS), 'viscoelastic_clipped' (criterion F0 only);
+    with `every_law`, every viscoelastic law the code can express. A code that cannot express
+    the viscoelastic force at all (e.g. Kratos) runs K = 0 alone.
 
     Every run carries the reference at its own K (`RunSpec.reference`), solved in one batch;
     `solved` ({K: reference row}, `references_of` an earlier plan of the same runs) spares the
@@ -341,18 +342,15 @@ def plan_at_velocity(case: Case, engine: str, K_values, time_step_factors, veloc
     from contact_model import ContactPair
     from contact_model.collision_scales import viscosity_for_dissipation
 
-    law = next((lw for lw in ("viscoelastic", "viscoelastic_clipped") if law_unavailable(engine, lw) is None), None)
-    hertz_only = law is None
+    laws = [lw for lw in ("viscoelastic", "viscoelastic_clipped") if law_unavailable(engine, lw) is None]
+    laws = laws if every_law else laws[:1]
     runs = []
     for pair in case.pairs:
         for K in K_values:
-            if hertz_only and K > 0:
-                continue
             eta = viscosity_for_dissipation(pair.E, pair.R, pair.M, velocity, K) if K > 0 else 0.0
             tuned = ContactPair(pair.geometry, pair.body_1, pair.body_2, pair.E, eta)
-            law_K = "elastic" if hertz_only else law
-            runs += [RunSpec(f"{case.name}-{purpose}", engine, law_K, tuned, velocity, f, build=build)
-                     for f in time_step_factors]
+            runs += [RunSpec(f"{case.name}-{purpose}", engine, law, tuned, velocity, f, build=build)
+                     for law in (laws if K > 0 else ["elastic"]) for f in time_step_factors]
     # The reference at every run's own K in one batch, handed on as run_engine's plan does: a
     # run solved its K itself each time it was asked for its steps (72 one-K solves for the
     # 36 runs of a convergence sweep). K > 10 and K = 0 need none (RunSpec.steps).

@@ -288,6 +288,7 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
 def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_dir: Path,
                  series_cmp: pd.DataFrame | None = None, timing: dict | None = None, not_run: list[dict] = (),
                  failed_runs: list[dict] = (), convergence: pd.DataFrame | None = None,
+                 convergence_orders: pd.DataFrame | None = None, convergence_spread: pd.DataFrame | None = None,
                  regressions: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
                  table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None,
                  calibration: str | None = None, reference: pd.DataFrame | None = None,
@@ -415,7 +416,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                       _md_table(with_build(pd.DataFrame(list(failed_runs)))[["case", "build", "law", "run", "problem", "log"]]),
                       ""]
     if convergence is not None:
-        lines += _convergence_section(convergence)
+        lines += _convergence_section(convergence, convergence_orders, convergence_spread)
     if regressions is not None:
         lines += _lammps_regression_section(regressions, checks)
     if claims is not None:
@@ -478,19 +479,51 @@ def _calibration_section(markdown_text: str, folder: str = "calibration") -> lis
     return text.rstrip().splitlines() + [""]
 
 
-def _convergence_section(orders: pd.DataFrame) -> list[str]:
-    """Observed orders (median over engines and geometries, which agree) and the full table."""
-    finite = orders.dropna(subset=["order"])
-    summary = finite.groupby(["K", "criterion", "quantity"]).agg(
-        order_min=("order", "min"), order_max=("order", "max")).reset_index()
-    passing = orders.groupby(["K", "criterion", "quantity"]).largest_passing_dt.agg(
-        lambda s: ", ".join(sorted(set(s)))).reset_index()
-    summary = summary.merge(passing, on=["K", "criterion", "quantity"], how="right")
-    return ["## Convergence in the time step", "",
-            "Steel, V = 1 m/s, eta set per K; dt = T_e/250 ... T_e/8000 in every engine build and geometry. Order: "
-            "least-squares slope of log|error| against log dt over the points above round-off "
-            "(`results/convergence/orders.csv` per build and geometry; `errors.csv` the points).", "",
-            _md_table(summary, ".3g"), "", "![convergence](plots/convergence.png)", ""]
+def _convergence_section(largest: pd.DataFrame, orders: pd.DataFrame | None = None,
+                         spread: pd.DataFrame | None = None) -> list[str]:
+    """Which time step a user may take: the largest dt per build x law x criterion that keeps T,
+    A and eps within each threshold (`postprocess.convergence.largest_dt_table`), the observed
+    orders, and how far the builds differ."""
+    def dt_text(r):
+        if r.how == "none":
+            return "none (finer than the sweep)"
+        prefix = ">= " if r.how == "coarsest" else ""
+        suffix = " (below the sweep)" if r.how == "beyond" else ""
+        return f"{prefix}T_e/{r.T_e_over_dt:.3g} = {r.dt_over_T_R:.2g} T_R{suffix}"
+
+    # One row per law, criterion and K where every build gives the same dt (to 1 %), else per build.
+    rows = []
+    for (law, criterion, K), g in largest.groupby(["law", "criterion", "K"], sort=True):
+        same = all(gt.how.nunique() == 1 and not (gt.dt_over_T_e.max() - gt.dt_over_T_e.min()
+                                                   > 0.01 * gt.dt_over_T_e.abs().max())
+                   for _, gt in g.groupby("threshold"))
+        for build, gb in ([(f"all {g.build.nunique()}", g[g.build == g.build.iloc[0]])] if same
+                          else g.groupby("build", sort=False)):
+            rows.append({"law": law, "criterion": criterion, "K": K, "builds": build,
+                         **{f"within {r.threshold:g}": dt_text(r) for r in gb.sort_values("threshold",
+                                                                                      ascending=False).itertuples()}})
+    table = pd.DataFrame(rows)
+    lines = ["## Which time step? Convergence from production steps on", "",
+             "Steel, V = 1 m/s, eta set per K, both geometries, every viscoelastic law a build can express, "
+             "dt = T_e/10 ... T_e/2000. For each law, criterion and K: the largest dt that keeps T, A and eps within "
+             "each threshold in both geometries, in Hertz times T_e and in Rayleigh times T_R of the sphere "
+             "(interpolated between the sweep's steps in log|error| against log dt, or carried below its finest "
+             "step with the slope of its last two; per build in "
+             "`results/convergence/largest_dt.csv`, the points in `errors.csv`). 'all N' where every build gives "
+             "the same dt to 1 %. Production DEM runs take dt = 0.1 to 0.4 T_R.", "", _md_table(table), ""]
+    if orders is not None and len(orders):
+        finite = orders.dropna(subset=["order"])
+        o = finite.groupby(["law", "quantity"]).order.agg(["min", "max"]).reset_index()
+        lines += ["Observed order over dt <= T_e/250 (`orders.csv`): "
+                  + "; ".join(f"{r.law} {r.quantity} {r.min:.2f}-{r.max:.2f}" for r in o.itertuples()) + ".", ""]
+    if spread is not None and len(spread):
+        worst = spread.loc[spread.spread.idxmax()]
+        lines += [f"The builds differ little: at the same law, geometry, K, criterion and step their errors differ by at "
+                  f"most {spread.spread.max():.1e} of the error's size ({worst.law}, {worst.geometry}, K = {worst.K:g}, "
+                  f"{worst.quantity}, dt = T_e/{1 / worst.h:.0f}; `build_spread.csv`). Velocity Verlet (LAMMPS, "
+                  "LIGGGHTS), leapfrog (YADE) and symplectic Euler (ESyS, Kratos) are one map on positions and "
+                  "half-step velocities, so a time step safe in one build is safe in all.", ""]
+    return lines + ["![convergence](plots/convergence.png)", ""]
 
 
 def _paper_section(claims: pd.DataFrame, table1: pd.DataFrame | None, energy_check: pd.DataFrame | None) -> list[str]:

@@ -9,7 +9,8 @@ from engines.plan import plan_at_velocity, references_of
 def convergence_plan_of(code):
     """`code`'s convergence runs, planned (and their reference solved) once per workflow."""
     c = config["convergence"]
-    return plan_at_velocity(load_case(c["case"]), code, c["K"], c["time_step_factors"], c["velocity"], "convergence")
+    return plan_at_velocity(load_case(c["case"]), code, c["K"], c["time_step_factors"], c["velocity"], "convergence",
+                            every_law=True)
 
 
 def convergence_priority_of(code):
@@ -40,15 +41,19 @@ rule convergence_runs:
 
 
 rule convergence_summary:
-    """Errors against dt, the observed orders and the largest passing dt; the log-log plot."""
+    """Errors against dt from production steps on, the observed orders, the largest dt meeting
+    each threshold (in T_e and in the Rayleigh time); the log-log plot."""
     input:
         manifests=expand("results/convergence/{build}/manifest.json", build=BUILD_IDS),
         runs=expand("results/convergence/{build}/runs", build=BUILD_IDS),
+        case=config["convergence"]["case"],
     output:
         errors="results/convergence/errors.csv",
         orders="results/convergence/orders.csv",
+        largest_dt="results/convergence/largest_dt.csv",
+        spread="results/convergence/build_spread.csv",
         plot="results/plots/convergence.png",
     log: "logs/convergence/summary.log"
-    params: tolerance=config["tolerance"]
+    params: thresholds=config["convergence"]["thresholds"], case=config["convergence"]["case"]
     script: "../scripts/convergence_summary.py"
 

@@ -11,7 +11,7 @@ log = start_rule(snakemake)
 c = snakemake.params.convergence
 build = Build(**snakemake.params.build)
 runs = plan_at_velocity(load_case(snakemake.input.case), build.code, c["K"], c["time_step_factors"], c["velocity"],
-                        "convergence", build=build.id, solved=snakemake.params.reference)
+                        "convergence", build=build.id, solved=snakemake.params.reference, every_law=True)
 log.info("%d %s convergence runs into %s", len(runs), build.id, snakemake.output.runs)
 sweep = run_sweep(build, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s).raise_first()
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs], build=build.id, engine=build.code,

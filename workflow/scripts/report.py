@@ -37,7 +37,8 @@ not_available = [row for p in plans for row in p.get("not_available", [])]  # pl
 builds = list(snakemake.params.builds)  # config order: the rows of the report's matrix
 code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b in snakemake.params.builds.values())}
 optional = {key: pd.read_csv(snakemake.input[key])
-            for key in ("convergence", "regressions", "claims", "table1", "energy_check")
+            for key in ("convergence", "convergence_orders", "convergence_spread", "regressions", "claims", "table1",
+                        "energy_check")
             if key in snakemake.input.keys()}
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
