@@ -82,8 +82,10 @@ def run_lammps(specs: list[RunSpec], workdir, executable: str = "lmp",
 class RegressionCase:
     """A known LAMMPS defect as a run: `run` is the contact written the way a user would write it,
     `control` the same contact written the way the study does (it must match the reference in
-    every build, or the case proves nothing). `defect` is the relative error in T the defect
-    gives, where it can be predicted (None: no closed form)."""
+    every build, or the case proves nothing); each is run as a ladder of time steps
+    (`engines.plan.rungs_of`), extrapolated like the gated runs. `overrides` replace deck
+    variables of the user's ladder (by its name). `defect_err_T` is the relative error in T the
+    defect gives, where it can be predicted (None: no closed form)."""
 
     name: str
     description: str
@@ -119,7 +121,7 @@ def regression_cases(build: str = "", young: float = 200e9, poisson: float = 0.3
     return [
         RegressionCase("wall-modulus", "fix wall/gran hertz/material: the wall's E*",
                        "fix wall/gran granular hertz/material E 0 nu", material, spec("wall-modulus", wall),
-                       {material.name: {"model": words}}, (1 + poisson) ** -0.4 - 1),
+                       {material.ladder: {"model": words}}, (1 + poisson) ** -0.4 - 1),
         RegressionCase("mixing", "pair_style granular: the mixed 1-2 pair of per-type coefficients",
                        "pair_coeff 1 1 hertz kn eta_n0 ...; pair_coeff 2 2 (the same)", mixed,
                        spec("mixing", pair), {}, None),
@@ -128,15 +130,17 @@ def regression_cases(build: str = "", young: float = 200e9, poisson: float = 0.3
 
 def run_regression_cases(workdir, executable: str = "lmp", build: str = "",
                          timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S):
-    """Every regression case in the LAMMPS `executable`, each (its control, then its run) in a
-    process of its own, so that a defect that crashes the engine (the 2021 build's mixed pair can
-    end in SIGSEGV) fails its own case only, in `workdir/<case>/`; returns (cases, sweep) with
-    every case's runs."""
+    """Every regression case in the LAMMPS `executable`, each (its control's ladder, then its
+    run's) in a process of its own, so that a defect that crashes the engine (the 2021 build's
+    mixed pair can end in SIGSEGV) fails its own case only, in `workdir/<case>/`; returns
+    (cases, sweep) with every case's runs."""
+    from .plan import rungs_of
+
     cases = regression_cases(build)
     sweep = Sweep()
     for case in cases:
-        one = run_lammps([case.control, case.run], Path(workdir) / case.name, executable, overrides=case.overrides,
-                         timeout_floor_s=timeout_floor_s)
+        one = run_lammps([*rungs_of(case.control), *rungs_of(case.run)], Path(workdir) / case.name, executable,
+                         overrides=case.overrides, timeout_floor_s=timeout_floor_s)
         sweep.dumps.update(one.dumps)
         sweep.failures.update(one.failures)
         sweep.engine_seconds += one.engine_seconds

@@ -71,11 +71,16 @@ class PlanError(CaseError):
 
 def ladder_factors(ladder: dict, law: str, K: float) -> list[float]:
     """The time-step factors of the rungs of a run of `law` at dissipation parameter K: the
-    ladder's 'elastic' factors for the elastic law, its 'dissipative' ones refined by
+    ladder's 'elastic' factors for the elastic law (or K = 0), its 'dissipative' ones refined by
     `engines.ladder.rung_factor` for the viscoelastic laws."""
-    if law == "elastic":
+    if law == "elastic" or K == 0:
         return [float(f) for f in ladder["elastic"]]
     return [float(rung_factor(f, K)) for f in ladder["dissipative"]]
+
+
+def rungs_of(spec: RunSpec, ladder: dict | None = None) -> list[RunSpec]:
+    """`spec` at every time step of its ladder (`ladder_factors`; default DEFAULT_LADDER)."""
+    return [replace(spec, time_step_factor=f) for f in ladder_factors(ladder or DEFAULT_LADDER, spec.law, spec.K)]
 
 
 def ladder_roundoff(rungs: list[RunSpec]) -> float:
@@ -273,7 +278,7 @@ def _probe_ladder(probe: RunSpec, ladder: dict, laws) -> list[RunSpec]:
     law = next((lw for lw in ("viscoelastic", "viscoelastic_clipped", "elastic") if lw in laws), "viscoelastic")
     if probe.pair.eta == 0:
         law = "elastic"
-    return [replace(probe, law=law, time_step_factor=f) for f in ladder_factors(ladder, law, probe.K)]
+    return rungs_of(replace(probe, law=law), ladder)
 
 
 def _body(body) -> dict:

@@ -8,12 +8,14 @@ rule, with the runs that failed) or a summary.csv (its checks are made here, fro
 holds, against --tolerance). For every engine build x law x geometry x criterion x quantity:
 
     regression  fails in the candidate and passed in the baseline, or
-                e_c > factor * max(e_b, noise_floor)
+                e_c > factor * max(e_b, floor)
     fix         passes in the candidate and failed in the baseline, or
-                e_b > factor * max(e_c, noise_floor)
+                e_b > factor * max(e_c, floor)
     unchanged   otherwise;  new / removed: a check in one study only
 
-with e the largest |relative error| (engine vs reference). Checks are matched by build id; with
+with e the largest |relative error| (engine vs reference, extrapolated to dt -> 0) and floor the
+larger of the noise floor and the two checks' resolutions: a change the ladders cannot resolve is
+no change. Checks are matched by build id; with
 --builds, the baseline's build BASELINE_BUILD is matched with the candidate's CANDIDATE_BUILD
 (two builds of one code, e.g. Debian's LAMMPS against today's, in one study or in two), and the
 other builds are left out. The noise floor keeps round-off-level
@@ -32,11 +34,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from .gate import GATED_QUANTITIES, GROUP, gate_checks, with_build
+from .gate import GATED_QUANTITIES, GROUP, gate_checks, limit_rows, with_build
 from .verdict_files import write_atomically
 
 KEY = [*GROUP, "quantity"]
-DEFAULT_TOLERANCE = {"T": 5e-4, "A": 5e-4, "eps": 5e-4}
+DEFAULT_TOLERANCE = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
 
 
 class CompareError(ValueError):
@@ -64,10 +66,11 @@ def load_checks(path, tolerance: dict = DEFAULT_TOLERANCE) -> pd.DataFrame:
     if not needed <= set(table.columns):
         raise CompareError(f"{path}: neither a checks.csv nor a summary.csv (missing columns "
                            f"{sorted(needed - set(table.columns))})")
-    # A summary alone: every run it holds was planned and landed (failed runs are not in it).
-    runs = table if "run" in table else table.assign(run=[f"row-{i}" for i in range(len(table))])
-    planned = runs.groupby(["case", "run", "build", "engine", "law", "geometry"]).criterion.apply(list).reset_index()
-    planned = planned.rename(columns={"run": "name", "criterion": "represents"})
+    # A summary alone: every ladder it holds (its dt = 0 rows; in a summary from before ladders,
+    # every run) was planned and landed (failed runs are not in it).
+    runs = limit_rows(table if "run" in table else table.assign(run=[f"row-{i}" for i in range(len(table))]))
+    planned = runs.groupby(["case", "ladder", "build", "engine", "law", "geometry"]).criterion.apply(list).reset_index()
+    planned = planned.rename(columns={"criterion": "represents"}).assign(name=lambda d: d.ladder)
     return gate_checks(runs, planned, pd.DataFrame(), tolerance)
 
 
@@ -91,14 +94,18 @@ def compare_checks(baseline: pd.DataFrame, candidate: pd.DataFrame, factor: floa
     """One row per check of either study: KEY, baseline/candidate error and pass, change
     (candidate / baseline error) and status (regression, fix, unchanged, new, removed)."""
     baseline, candidate = with_build(baseline), with_build(candidate)
-    b = baseline[KEY + ["max_abs_error", "pass"]].rename(columns={"max_abs_error": "baseline_error",
-                                                                  "pass": "baseline_pass"})
-    c = candidate[KEY + ["max_abs_error", "pass", "reason"]].rename(
-        columns={"max_abs_error": "candidate_error", "pass": "candidate_pass", "reason": "candidate_reason"})
+    baseline, candidate = (t if "resolution" in t.columns else t.assign(resolution=0.0) for t in (baseline, candidate))
+    b = baseline[KEY + ["max_abs_error", "pass", "resolution"]].rename(
+        columns={"max_abs_error": "baseline_error", "pass": "baseline_pass", "resolution": "baseline_resolution"})
+    c = candidate[KEY + ["max_abs_error", "pass", "reason", "resolution"]].rename(
+        columns={"max_abs_error": "candidate_error", "pass": "candidate_pass", "reason": "candidate_reason",
+                 "resolution": "candidate_resolution"})
     both = b.merge(c, on=KEY, how="outer", indicator=True)
     rows = []
     for r in both.to_dict("records"):
         eb, ec = r["baseline_error"], r["candidate_error"]
+        floor = max([noise_floor] + [x for x in (r["baseline_resolution"], r["candidate_resolution"])
+                                     if isinstance(x, float) and not math.isnan(x)])
         if r["_merge"] == "left_only":
             status = "removed"
         elif r["_merge"] == "right_only":
@@ -107,18 +114,19 @@ def compare_checks(baseline: pd.DataFrame, candidate: pd.DataFrame, factor: floa
             status = "regression"
         elif not bool(r["baseline_pass"]) and bool(r["candidate_pass"]):
             status = "fix"
-        elif not math.isnan(ec) and not math.isnan(eb) and ec > factor * max(eb, noise_floor):
+        elif not math.isnan(ec) and not math.isnan(eb) and ec > factor * max(eb, floor):
             status = "regression"
-        elif not math.isnan(ec) and not math.isnan(eb) and eb > factor * max(ec, noise_floor):
+        elif not math.isnan(ec) and not math.isnan(eb) and eb > factor * max(ec, floor):
             status = "fix"
         else:
             status = "unchanged"
         change = ec / eb if eb and not math.isnan(eb) and not math.isnan(ec) else math.nan
         rows.append({**{k: r[k] for k in KEY}, "baseline_error": eb, "candidate_error": ec, "change": change,
+                     "resolution": floor,
                      "baseline_pass": r["baseline_pass"], "candidate_pass": r["candidate_pass"], "status": status,
                      "candidate_reason": r["candidate_reason"] if isinstance(r["candidate_reason"], str) else ""})
     order = {"regression": 0, "fix": 1, "new": 2, "removed": 3, "unchanged": 4}
-    out = pd.DataFrame(rows, columns=[*KEY, "baseline_error", "candidate_error", "change", "baseline_pass",
+    out = pd.DataFrame(rows, columns=[*KEY, "baseline_error", "candidate_error", "change", "resolution", "baseline_pass",
                                       "candidate_pass", "status", "candidate_reason"])
     return out.sort_values(by=KEY, key=None).sort_values(by="status", key=lambda s: s.map(order),
                                                           kind="stable").reset_index(drop=True)
@@ -148,17 +156,19 @@ def markdown(comparison: pd.DataFrame, baseline: str, candidate: str, factor: fl
              f"`{candidate}`: " + ", ".join(f"{counts.get(s, 0)} {s}" for s in
                                             ("regression", "fix", "unchanged", "new", "removed")) + ".", "",
              f"A regression is a check that fails in the candidate and passed in the baseline, or whose largest "
-             f"relative error grew more than {factor:g}x (errors below {noise_floor:g} count as {noise_floor:g}); "
-             "a fix is the reverse.", ""]
+             f"relative error (extrapolated to dt -> 0) grew more than {factor:g}x (errors below the larger of "
+             f"{noise_floor:g} and the two checks' resolutions count as that); a fix is the reverse.", ""]
     for title, sel in (("Regressions", regressions), ("Fixes", fixes)):
         if len(sel):
             lines += [f"## {title}", ""] + [f"- {_verdict_line(r)}" for r in sel.to_dict("records")] + [""]
-    lines += ["## Every check", "", "| " + " | ".join(KEY + ["baseline", "candidate", "change", "status"]) + " |",
-              "|" + "---|" * (len(KEY) + 4)]
+    lines += ["## Every check", "", "| " + " | ".join(KEY + ["baseline", "candidate", "change", "resolution",
+                                                              "status"]) + " |",
+              "|" + "---|" * (len(KEY) + 5)]
     for r in comparison.to_dict("records"):
         lines.append("| " + " | ".join([str(r[k]) for k in KEY] + [f"{r['baseline_error']:.3g}",
                                                                     f"{r['candidate_error']:.3g}",
-                                                                    f"{r['change']:.3g}", r["status"]]) + " |")
+                                                                    f"{r['change']:.3g}", f"{r['resolution']:.2g}",
+                                                                    r["status"]]) + " |")
     return "\n".join(lines) + "\n"
 
 

@@ -219,20 +219,24 @@ def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFram
         failed = isinstance(user.problem, str) and bool(user.problem)
         for q in GATED_QUANTITIES:
             error = abs(float(user[f"err_{q}"]))
+            resolution = float(user.get(f"resolution_{q}", 0.0)) if not failed else math.nan
             reasons = []
             if failed:
                 reasons.append(f"the run failed: {user.problem}")
-            elif not error <= tolerance[q]:
-                reasons.append(f"{error:.3e} > {tolerance[q]:g} (written as the user would: {user.run})")
+            elif judge(error, resolution, tolerance[q]) != "pass":
+                reasons.append(f"{error:.3e} > {tolerance[q]:g} with resolution {resolution:.1e} (written as the user "
+                               f"would: {user.run})")
             control_error = abs(float(control[f"err_{q}"]))
-            if not control_error <= tolerance[q]:
+            control_resolution = float(control.get(f"resolution_{q}", 0.0))
+            if judge(control_error, control_resolution, tolerance[q]) != "pass":
                 why = control.problem if isinstance(control.problem, str) and control.problem else control.run
                 reasons.append(f"the control run (written as the study writes it) is off too: {control_error:.3e}; {why}")
             rows.append({"build": build, "engine": "", "law": f"regression:{case}", "geometry": user.geometry,
                          "criterion": "x0", "quantity": q, "planned": 1, "landed": 0 if failed else 1,
-                         "failed": 1 if failed else 0, "max_abs_error": error, "at_K": float(user.K),
-                         "case": f"regression:{case}", "at_run": user.run, "tolerance": float(tolerance[q]), "pass": not reasons,
-                         "reason": "; ".join(reasons), "gates": False})
+                         "failed": 1 if failed else 0, "max_abs_error": error, "resolution": resolution,
+                         "at_K": float(user.K), "case": f"regression:{case}", "at_run": user.run,
+                         "tolerance": float(tolerance[q]), "pass": not reasons, "reason": "; ".join(reasons),
+                         "gates": False, "rung_errors": str(user.get(f"rungs_{q}", "")) if not failed else ""})
     return pd.DataFrame(rows, columns=CHECK_COLUMNS)
 
 

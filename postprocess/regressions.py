@@ -1,9 +1,11 @@
 """The table of an engine's regression cases (e.g. `engines.lammps.regression_cases`), per build.
 
-One row per case and role: the run written the way a user would write the contact ('user') and
-the same contact written the way the study writes it ('control'), with the relative errors in T,
-A and eps against the reference solver (criterion x0) or, for a run that did not complete, the
-problem. `postprocess.gate.regression_checks` turns it into (non-gating) checks.
+One row per case and role: the contact written the way a user would write it ('user') and the
+same contact written the way the study writes it ('control'), each run as a ladder of time steps
+and extrapolated to dt -> 0 like the gated runs (`postprocess.extrapolation`): the relative
+errors in T, A and eps against the reference solver (criterion x0) with their resolution or,
+for a ladder with a run that did not complete, the problem. `postprocess.gate.regression_checks`
+turns it into (non-gating) checks.
 """
 
 from __future__ import annotations
@@ -12,9 +14,12 @@ import math
 
 import pandas as pd
 
+from engines.plan import rungs_of
+
 from .collision_metrics import collision_metrics
 from .comparison import comparison_rows
 from .dump_file import read_dump
+from .extrapolation import extrapolated_rows
 
 
 def regression_table(cases, sweep, build: str) -> pd.DataFrame:
@@ -32,17 +37,30 @@ def regression_table(cases, sweep, build: str) -> pd.DataFrame:
         for role, spec in (("control", case.control), ("user", case.run)):
             row = {"build": build, "case": case.name, "what": case.description, "role": role,
                    "written as": case.user_writes if role == "user" else "as the study writes it",
-                   "geometry": spec.pair.geometry, "K": spec.K, "run": spec.name,
+                   "geometry": spec.pair.geometry, "K": spec.K, "run": spec.ladder,
                    "defect_err_T": case.defect_err_T if role == "user" else None}
-            if spec.name in sweep.failures:  # a run that did not complete: its checks fail, naming why
-                row.update(engine_version="", problem=str(sweep.failures[spec.name]),
-                           err_T=math.nan, err_A=math.nan, err_eps=math.nan)
-            else:
-                meta, c = read_dump(sweep.dumps[spec.name])
-                m = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
-                                      meta["impact_velocity"])
-                (x0,) = [r for r in comparison_rows(meta, m) if r["criterion"] == "x0"]
-                row.update(engine_version=meta["engine_version"], problem="",
-                           err_T=x0["err_T"], err_A=x0["err_A"], err_eps=x0["err_eps"])
+            rungs = rungs_of(spec)
+            failed = [r.name for r in rungs if r.name in sweep.failures or r.name not in sweep.dumps]
+            if failed:  # a ladder that did not complete: its checks fail, naming why
+                problem = sweep.failures.get(failed[0], f"{failed[0]}: no dump")
+                row.update(engine_version="", problem=str(problem), err_T=math.nan, err_A=math.nan, err_eps=math.nan)
+                rows.append(row)
+                continue
+            limit = _x0_limit(rungs, sweep)
+            row.update(engine_version=limit["engine_version"], problem="",
+                       **{f"{k}_{q}": limit[f"{k}_{q}"] for q in ("T", "A", "eps")
+                          for k in ("err", "resolution", "rungs")})
             rows.append(row)
     return pd.DataFrame(rows)
+
+
+def _x0_limit(rungs, sweep) -> dict:
+    """The x0 limit row (`postprocess.extrapolation`) of one ladder's dumps in `sweep`."""
+    runs = []
+    for spec in rungs:
+        meta, c = read_dump(sweep.dumps[spec.name])
+        m = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
+                              meta["impact_velocity"])
+        runs += [{**r, "run": spec.name} for r in comparison_rows(meta, m) if r["criterion"] == "x0"]
+    (limit,) = extrapolated_rows(pd.DataFrame(runs)).to_dict("records")
+    return limit

@@ -3,6 +3,7 @@
 from common import start_rule
 from engines.builds import Build
 from engines.lammps import run_regression_cases
+from engines.plan import rungs_of
 from postprocess.regressions import regression_table
 from postprocess.run_manifest import write_manifest
 
@@ -11,7 +12,7 @@ build = Build(**snakemake.params.build)
 cases, sweep = run_regression_cases(snakemake.output.runs, executable=build.executable, build=build.id,
                                     timeout_floor_s=snakemake.params.timeout_floor_s)
 write_manifest(snakemake.output.manifest, list(sweep.dumps.values()),
-               sweep.failed_runs([spec for case in cases for spec in (case.control, case.run)]),
+               sweep.failed_runs([r for case in cases for spec in (case.control, case.run) for r in rungs_of(spec)]),
                case="lammps regressions", build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds)
 log.info("%d runs landed, %d failed; engine processes %.2f s", len(sweep.dumps), len(sweep.failures),
          sweep.engine_seconds)
