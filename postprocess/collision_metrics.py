@@ -95,10 +95,12 @@ def _phase(time, t0, dt) -> float:
     return float(steps - math.floor(steps))
 
 
-def _f0_in_tail(t, d, v, g, i_s, i_x, drops):
-    """(t_F0, eps rate) where a force that keeps its tail (not clipped) first crosses zero."""
+def _f0_in_tail(t, i_s, i_x, drops):
+    """The stencil of the F0 crossing of a force that keeps its tail (not clipped), its origin,
+    and the interval [lo, hi] of the crossing (hi None: up to the x0 end): around the first
+    non-positive sample `drops[0]`, or the last four in contact when every one is positive."""
     if len(drops):
-        k = i_s + drops[0]
+        k = int(drops[0])
         lo, hi = t[k - 1], t[k]
         a = min(max(k - CROSSING_POINTS // 2, i_s), i_x - CROSSING_POINTS)
     else:  # positive at every in-contact sample: the zero, if any, lies in the last step
@@ -139,16 +141,18 @@ def collision_metrics(time, overlap, normal_velocity, normal_force, impact_veloc
     eps_x0 = -v[i_x] / impact_velocity
 
     contact = slice(i_s, i_x)
-    scale = float(np.abs(f[contact]).max())
-    if scale == 0:
-        raise ExtractionError("the normal force is zero at every sample in contact")
-    g = f / np.sqrt(np.where(d > 0, d, np.nan))  # F / delta^{1/2}: smooth where F ~ delta^{1/2}
-    drops = np.nonzero(f[contact] <= CLIPPED * scale)[0]
-    if len(drops) and drops[0] == 0:
+    if f[i_s] <= 0:
         raise ExtractionError("the normal force is not positive at the first sample in contact")
-    if len(drops) and np.all(np.abs(f[i_s + drops[0]:i_x]) <= CLIPPED * scale):
+    scale = float(np.abs(f[contact]).max())
+    g = f / np.sqrt(np.where(d > 0, d, np.nan))  # F / delta^{1/2}: smooth where F ~ delta^{1/2}
+    # F0 comes after the force's maximum: search from there (the first samples in contact carry a
+    # force that starts from zero, which is no end of anything).
+    i_fmax = i_s + int(np.argmax(f[contact]))
+    after_max = slice(i_fmax, i_x)
+    drops = i_fmax + np.nonzero(f[after_max] <= CLIPPED * scale)[0]
+    if len(drops) and np.all(np.abs(f[drops[0]:i_x]) <= CLIPPED * scale):
         # Clipped at zero: the dynamics of the contact end at F0, the rest is free flight.
-        k = i_s + int(drops[0])
+        k = int(drops[0])
         if k - CROSSING_POINTS < i_s:
             raise ExtractionError("the force is clipped to zero before four samples in contact")
         stencil = slice(k - CROSSING_POINTS, k)
@@ -157,8 +161,8 @@ def collision_metrics(time, overlap, normal_velocity, normal_force, impact_veloc
         t_f0 = t[k] if root is None else root
         eps_f0 = -v[k] / impact_velocity
     else:
-        tail_drops = np.nonzero(f[contact] <= 0)[0]
-        stencil, t0, lo, hi = _f0_in_tail(t, d, v, g, i_s, i_x, tail_drops)
+        tail_drops = i_fmax + np.nonzero(f[after_max] <= 0)[0]
+        stencil, t0, lo, hi = _f0_in_tail(t, i_s, i_x, tail_drops)
         root = _root_in(_cubic(t[stencil], g[stencil], t0), t0, lo, t_x0 if hi is None else hi)
         if root is None and not len(tail_drops):
             # The force vanishes with the overlap (Hertz alone, eta = 0): both criteria end together.

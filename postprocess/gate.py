@@ -150,12 +150,13 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
             reasons = []
             if n_landed:
                 errors = sel[f"err_{q}"].to_numpy(dtype=float)
-                res = (sel[f"resolution_{q}"].to_numpy(dtype=float) if f"resolution_{q}" in sel.columns
-                       else np.zeros(len(sel)))
+                known = f"resolution_{q}" in sel.columns  # a summary from before ladders has none
+                res = sel[f"resolution_{q}"].to_numpy(dtype=float) if known else np.zeros(len(sel))
                 res = np.where(np.isnan(res), 0.0, res)
                 i = int(np.nanargmax(np.abs(errors))) if not np.isnan(errors).all() else 0
                 worst = sel.iloc[i]
-                row.update(max_abs_error=float(abs(errors[i])), resolution=float(res.max()), at_K=float(worst.K),
+                row.update(max_abs_error=float(abs(errors[i])), resolution=float(res.max()) if known else math.nan,
+                           at_K=float(worst.K),
                            case=str(worst.case), at_run=str(worst.ladder),
                            observed_order=float(worst.get(f"order_{q}", math.nan)),
                            rung_factors=str(worst.get("rung_factors", "")) if pd.notna(worst.get("rung_factors", "")) else "",
@@ -165,7 +166,8 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
                 order = np.argsort(-(np.abs(np.nan_to_num(errors, nan=np.inf)) + res))
                 for j in order:
                     if outcomes[j] == "fail":
-                        reasons.append(f"{abs(errors[j]):.3e} > {tolerance[q]:g} (resolution {res[j]:.1e}; "
+                        judged = f"resolution {res[j]:.1e}; " if known else ""
+                        reasons.append(f"{abs(errors[j]):.3e} > {tolerance[q]:g} ({judged}"
                                        f"case {sel.case.iloc[j]}, K = {sel.K.iloc[j]:.4g})")
                     elif outcomes[j] == "unresolved":
                         reasons.append(f"not resolved at this tolerance: {abs(errors[j]):.3e} with resolution "

@@ -184,9 +184,10 @@ def test_own_build_is_one_entry_and_gives_bit_identical_dumps(tmp_path):
 
 def test_regression_job_writes_a_manifest_that_verifies_its_dumps_and_counts_its_engine_seconds(tmp_path):
     """lammps_regression_runs through Snakemake, in Debian's build: its manifest lists every dump
-    of the two cases (control and user run each) with its sha256, the user run of the mixed pair
-    as failed when the 2021 build crashed on it (it can end in SIGSEGV), and the engine processes'
-    seconds, which benchmarks/study.py adds to the study's engine seconds."""
+    of the two cases (the control's and the user's ladders: 3 rungs each for the elastic wall,
+    4 for the viscoelastic pair) with its sha256, the user runs of the mixed pair as failed when
+    the 2021 build crashed on them (it can end in SIGSEGV), and the engine processes' seconds,
+    which benchmarks/study.py adds to the study's engine seconds."""
     require_engine("lmp", "lammps")
     from benchmarks.study import engine_seconds
     from postprocess.run_manifest import read_manifest, verified_dump
@@ -198,7 +199,7 @@ def test_regression_job_writes_a_manifest_that_verifies_its_dumps_and_counts_its
     assert run.returncode == 0, run.stderr[-3000:]
     manifest = read_manifest(root / "results/lammps/lammps-2021/manifest.json")
     assert (manifest["engine"], manifest["build"]) == ("lammps", "lammps-2021")
-    assert len(manifest["dumps"]) + len(manifest["failed"]) == 4
+    assert len(manifest["dumps"]) + len(manifest["failed"]) == 2 * 3 + 2 * 4
     for failed in manifest["failed"]:
         assert failed["run"].endswith("-per-type-coefficients") and Path(failed["log"]).is_file()
     for dump in manifest["dumps"]:

@@ -67,16 +67,16 @@ def test_elastic_contact_is_hertz(sweep, geometry):
 
 @pytest.mark.parametrize("law", ("viscoelastic_clipped", "elastic", "default"))
 def test_plane_stand_in_gives_the_plane_force(sweep, law):
-    """The plane is a fixed sphere of radius 1000 R with its modulus scaled by sqrt(1.001): in
-    the scales of each geometry (delta_e, T_e) the two collisions must be one and the same
-    (same K), to the rounding of the wall's position (its centre is at x = 1000 R)."""
+    """The plane is a fixed sphere of radius R with its modulus scaled by sqrt(2): in the scales
+    of each geometry (delta_e, T_e) the two collisions must be one and the same (same K), to
+    rounding."""
     _, _, two = sweep[(law, "sphere-sphere", VELOCITY)]
     spec, meta, plane = sweep[(law, "sphere-plane", VELOCITY)]
     sphere_spec = sweep[(law, "sphere-sphere", VELOCITY)][0]
     assert spec.K == pytest.approx(sphere_spec.K, rel=1e-12)
     v = meta["engine_variables"]
-    assert v["R_wall"] == pytest.approx(1000 * spec.pair.body_1.radius, rel=1e-15)
-    assert v["modulus_factor"] == pytest.approx(math.sqrt(1.001), rel=1e-15)
+    assert v["R_wall"] == pytest.approx(spec.pair.body_1.radius, rel=1e-15)
+    assert v["modulus_factor"] == pytest.approx(math.sqrt(2.0), rel=1e-15)
     s_two, s_plane = sphere_spec.scales, spec.scales
     assert plane.delta_max / s_plane["delta_e"] == pytest.approx(two.delta_max / s_two["delta_e"], rel=1e-8)
     criterion = "F0" if law == "viscoelastic_clipped" else "x0"

@@ -15,21 +15,27 @@ from postprocess.gate import gate_checks, junit_xml, verdict_of, write_junit, wr
 from postprocess.verdict_files import VERDICT_FILES, withdraw_verdict
 from postprocess.report import write_report
 
-TOL = {"T": 5e-4, "A": 5e-4, "eps": 5e-4}
+TOL = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
+RUNGS = (250, 500, 1000, 2000)
 
 
-def plan(*runs):
-    """Planned runs: (name, engine, law, geometry)."""
+def plan(*ladders):
+    """Planned runs: every rung of the ladders (name, engine, law, geometry); the default law
+    runs once (its name is its run's)."""
     represents = {"viscoelastic": ["x0", "F0"], "viscoelastic_clipped": ["F0"], "default": ["x0"]}
-    return pd.DataFrame([{"case": "steel", "name": n, "engine": e, "law": law, "geometry": g,
-                          "represents": represents[law]} for n, e, law, g in runs])
+    return pd.DataFrame([{"case": "steel", "name": f"{n}-dt{f}" if law != "default" else n, "ladder": n, "engine": e,
+                          "law": law, "geometry": g, "represents": represents[law]}
+                         for n, e, law, g in ladders for f in (RUNGS if law != "default" else (1000,))])
 
 
-def rows(name, engine="lammps", law="viscoelastic", geometry="sphere-sphere", K=0.1, **err):
+def rows(name, engine="lammps", law="viscoelastic", geometry="sphere-sphere", K=0.1, res=1e-7, problem="", **err):
+    """A ladder's limit rows (dt = 0, one per criterion), errors err_q and resolution `res`; the
+    default law's rows are a run's (dt > 0)."""
     criteria = {"viscoelastic": ["x0", "F0"], "viscoelastic_clipped": ["F0"], "default": ["x0"]}[law]
-    return [{"case": "steel", "run": name, "engine": engine, "engine_version": "v", "law": law,
-             "geometry": geometry, "criterion": c, "K": K, "err_T": err.get("T", 1e-5), "err_A": err.get("A", 2e-5),
-             "err_eps": err.get("eps", -3e-6)} for c in criteria]
+    return [{"case": "steel", "run": name, "ladder": name, "engine": engine, "engine_version": "v", "law": law,
+             "geometry": geometry, "criterion": c, "K": K, "dt": 0.0 if law != "default" else 1e-6,
+             "err_T": err.get("T", 1e-8), "err_A": err.get("A", 2e-8), "err_eps": err.get("eps", -3e-9),
+             "resolution_T": res, "resolution_A": res, "resolution_eps": res, "problem": problem} for c in criteria]
 
 
 def no_failures():
@@ -48,28 +54,55 @@ def test_all_within_tolerance_passes_and_default_law_is_not_gated():
     assert v["verdict"] == "PASS" and v["checked"] == 6 and v["failed"] == 0 and v["failures"] == []
 
 
-def test_worst_run_decides_and_the_boundary_is_inclusive():
-    table = pd.DataFrame(rows("a", T=-4e-4) + rows("b", K=0.3, T=-6e-4) + rows("c", K=0.5, A=5e-4))
+def test_worst_ladder_decides_and_the_boundary_counts_the_resolution():
+    """|e| + resolution <= tolerance passes (inclusive); the check reports the largest |e| and the
+    largest resolution of its ladders, and the failing ladder by name in its reason."""
+    table = pd.DataFrame(rows("a", T=-4e-7) + rows("b", K=0.3, T=-6e-6) + rows("c", K=0.5, A=9e-7, res=1e-7))
     checks = gate_checks(table, plan(*[(n, "lammps", "viscoelastic", "sphere-sphere") for n in "abc"]),
                          no_failures(), TOL).set_index(["criterion", "quantity"])
     t = checks.loc[("x0", "T")]
-    assert not t["pass"] and t.max_abs_error == pytest.approx(6e-4) and t.at_K == 0.3 and t.at_run == "b"
-    assert t.reason.startswith("6.000e-04 > 0.0005 (case steel, K = 0.3)")
-    assert checks.loc[("x0", "A"), "pass"]  # exactly at the tolerance: |err| <= tol passes
+    assert not t["pass"] and t.max_abs_error == pytest.approx(6e-6) and t.at_K == 0.3 and t.at_run == "b"
+    assert t.resolution == pytest.approx(1e-7)
+    assert t.reason.startswith("6.000e-06 > 1e-06 (resolution 1.0e-07; case steel, K = 0.3)")
+    assert checks.loc[("x0", "A"), "pass"]  # 9e-7 + 1e-7 = the tolerance: passes
     v = verdict_of(checks.reset_index(), "sha", TOL)
     assert v["verdict"] == "FAIL" and v["failed"] == 2  # T under x0 and under F0
     assert all(f.startswith("lammps viscoelastic sphere-sphere") and " T: " in f for f in v["failures"])
 
 
-def test_a_failed_gated_run_fails_its_checks_naming_run_and_log():
-    table = pd.DataFrame(rows("a"))
-    failed = pd.DataFrame([{"run": "b", "problem": "lammps exited with status 139", "log": "runs/lammps.log"}])
+def test_an_error_within_the_tolerance_but_not_its_resolution_is_not_a_pass():
+    """|e| <= tol < |e| + r: the study cannot tell, so the check fails as not resolved; with a
+    smaller resolution the same error passes, and |e| - r > tol fails as resolved."""
+    from postprocess.gate import judge
+
+    assert judge(8e-7, 5e-7, 1e-6) == "unresolved" and judge(1.2e-6, 5e-7, 1e-6) == "unresolved"
+    assert judge(8e-7, 1e-7, 1e-6) == "pass" and judge(1.2e-6, 1e-7, 1e-6) == "fail"
+    assert judge(math.nan, 1e-7, 1e-6) == "nan" and judge(5e-7, math.nan, 1e-6) == "pass"
+    table = pd.DataFrame(rows("a", eps=8e-7, res=5e-7))
+    checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere")), no_failures(), TOL)
+    eps = checks[checks.quantity == "eps"]
+    assert not eps["pass"].any()
+    assert eps.reason.str.startswith("not resolved at this tolerance: 8.000e-07 with resolution 5.0e-07 straddles 1e-06").all()
+
+
+def test_a_misaligned_ladder_fails_its_checks_with_the_reason():
+    problem = "misaligned ladder: contact starts +0.25 steps from the planned phase 0.5 at dt = T_e/500"
+    table = pd.DataFrame(rows("a", problem=problem))
+    checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere")), no_failures(), TOL)
+    assert not checks["pass"].any() and checks.reason.str.contains("misaligned ladder", regex=False).all()
+
+
+def test_a_failed_rung_fails_its_ladders_checks_naming_run_and_log():
+    """One rung of ladder b crashed: b's limit cannot be made, its checks fail naming the rung and
+    the engine log, even where the summary still held a limit row for b (an earlier study)."""
+    table = pd.DataFrame(rows("a") + rows("b"))
+    failed = pd.DataFrame([{"run": "b-dt1000", "problem": "lammps exited with status 139", "log": "runs/lammps.log"}])
     checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere"),
                                      ("b", "lammps", "viscoelastic", "sphere-sphere")), failed, TOL)
     assert not checks["pass"].any()
     assert (checks.failed == 1).all() and (checks.landed == 1).all() and (checks.planned == 2).all()
-    assert all("1 of 2 runs failed; first: b: lammps exited with status 139 (engine log: runs/lammps.log)" in r
-               for r in checks.reason)
+    assert all("1 of 2 ladders have a failed run; first: b-dt1000: lammps exited with status 139 (engine log: "
+               "runs/lammps.log)" in r for r in checks.reason)
 
 
 def test_a_planned_run_with_no_result_fails_and_a_group_with_none_fails():
@@ -78,7 +111,7 @@ def test_a_planned_run_with_no_result_fails_and_a_group_with_none_fails():
                                                        ("c", "yade", "viscoelastic_clipped", "sphere-plane")),
                          no_failures(), TOL)
     lammps = checks[checks.engine == "lammps"]
-    assert not lammps["pass"].any() and lammps.reason.str.contains(r"1 of 2 planned runs have no result \(first: b\)").all()
+    assert not lammps["pass"].any() and lammps.reason.str.contains(r"1 of 2 planned ladders have no result \(first: b\)").all()
     yade = checks[checks.engine == "yade"]
     assert len(yade) == 3 and not yade["pass"].any() and yade.max_abs_error.isna().all()
 
@@ -107,7 +140,7 @@ def test_junit_has_one_testcase_per_check_and_a_failure_for_each_failing_one(tmp
     assert {(c.get("classname"), c.get("name")) for c in failing} == {
         ("lammps.viscoelastic.sphere-sphere.x0", "T"), ("lammps.viscoelastic.sphere-sphere.F0", "T")}
     assert root.get("failures") == "2" and root.find("testsuite").get("tests") == "12"
-    assert "1.000e-02 > 0.0005" in failing[0].find("failure").get("message")
+    assert "1.000e-02 > 1e-06" in failing[0].find("failure").get("message")
 
 
 def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
@@ -145,13 +178,15 @@ def test_withdraw_verdict_removes_every_verdict_file(tmp_path):
     assert not list(tmp_path.glob(".*.part"))  # written atomically: no temporary left behind
 
 
-def regression_rows(build, user_err_T, control_err_T=5e-5, problem=""):
-    """A regression case's table (postprocess.regressions): the user's run and the control."""
-    base = {"build": build, "case": "wall-modulus", "geometry": "sphere-plane", "K": 0.0}
+def regression_rows(build, user_err_T, control_err_T=2e-10, problem=""):
+    """A regression case's table (postprocess.regressions): the user's ladder and the control's,
+    their limits with a resolution of 1e-8."""
+    base = {"build": build, "case": "wall-modulus", "geometry": "sphere-plane", "K": 0.0,
+            **{f"resolution_{q}": 1e-8 for q in ("T", "A", "eps")}}
     return [{**base, "role": "user", "run": f"{build}-user", "problem": problem,
-             "err_T": user_err_T, "err_A": user_err_T, "err_eps": 1e-8},
+             "err_T": user_err_T, "err_A": user_err_T, "err_eps": 1e-9},
             {**base, "role": "control", "run": f"{build}-control", "problem": "",
-             "err_T": control_err_T, "err_A": control_err_T, "err_eps": 1e-8}]
+             "err_T": control_err_T, "err_A": control_err_T, "err_eps": 1e-9}]
 
 
 def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the_verdict():
@@ -160,7 +195,7 @@ def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the
     model = gate_checks(pd.DataFrame(rows("a")), plan(("a", "lammps", "viscoelastic", "sphere-sphere")),
                         no_failures(), TOL)
     reported = regression_checks(pd.DataFrame(regression_rows("lammps-2021", -0.0996) +
-                                              regression_rows("lammps-2025", 5e-7) +
+                                              regression_rows("lammps-2025", 5e-8) +
                                               regression_rows("lammps-x", math.nan, problem="SIGSEGV") +
                                               regression_rows("lammps-y", 1e-7, control_err_T=0.2)), TOL)
     status = reported.set_index(["build", "quantity"])["pass"]
@@ -172,8 +207,8 @@ def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the
     checks = pd.concat([model, reported], ignore_index=True)
     v = verdict_of(checks, "sha", TOL)
     assert v["verdict"] == "PASS" and v["checked"] == 6  # only the model's checks gate
-    assert any(r.startswith("lammps-2021 regression:wall-modulus sphere-plane x0 T: 9.960e-02 > 0.0005")
-               for r in v["reported"])
+    assert any(r.startswith("lammps-2021 regression:wall-modulus sphere-plane x0 T: 9.960e-02 > 1e-06 with resolution "
+                            "1.0e-08") for r in v["reported"])
     root = junit_xml(checks).getroot()
     assert root.get("failures") == "0" and int(root.get("skipped")) == int((~reported["pass"]).sum())
     skipped = [c for c in root.iter("testcase") if c.find("skipped") is not None]

@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 
 from contact_model import CaseError, load_case
-from engines.plan import ROUNDOFF_LIMIT, PlanError, plan_runs, roundoff_error
+from engines.plan import ROUNDOFF_LIMIT, PlanError, ladder_roundoff, plan_runs, rungs_of
 from engines.run_spec import RunSpec
 
 STEEL = """name: s
@@ -51,13 +51,18 @@ def test_elastic_case_needs_velocities(tmp_path):
     assert err.value.field == "impact" and "elastic" in str(err.value)
 
 
-def test_roundoff_estimate_matches_the_measured_miss():
-    """Steel, sphere-plane, 1e-12 m/s: all engines missed T by 7e-3; the estimate gives ~6.7e-3."""
+def test_roundoff_floor_matches_the_measured_miss_and_the_ladder_weighs_its_rungs():
+    """Steel, sphere-plane, 1e-12 m/s (dt = T_e/1000): all engines missed T by 7e-3; the floor
+    sqrt(N) u X / delta_max gives ~6.7e-3. A ladder's round-off is its rungs' floors weighed by
+    the Richardson weights: about 5 times the finest rung's for the four-rung ladder."""
     case = load_case(Path(__file__).resolve().parents[1] / "cases" / "steel.yaml")
     spec = RunSpec("steel", "lammps", "viscoelastic", case.pair("sphere-plane"), 1e-12)
-    assert 5e-3 < roundoff_error(spec) < 9e-3
+    assert 5e-3 < spec.roundoff_floor() < 9e-3
     at_1_m_s = RunSpec("steel", "lammps", "viscoelastic", case.pair("sphere-plane"), 1.0)
-    assert roundoff_error(at_1_m_s) < ROUNDOFF_LIMIT / 1000
+    rungs = rungs_of(at_1_m_s)
+    assert [r.time_step_factor for r in rungs] == [250, 500, 1000, 2000]
+    assert 4 * rungs[-1].roundoff_floor() < ladder_roundoff(rungs) < 6 * rungs[-1].roundoff_floor()
+    assert ladder_roundoff(rungs) < ROUNDOFF_LIMIT / 1000
 
 
 def test_shipped_cases_plan_and_the_study_grid_skips_what_cannot_be_resolved():
@@ -68,8 +73,12 @@ def test_shipped_cases_plan_and_the_study_grid_skips_what_cannot_be_resolved():
         for skipped in p.skipped:
             assert "R*" in skipped["reason"] and math.isfinite(skipped["V"])
     cork = plan_runs(load_case(folder / "cork.yaml"), ["lammps"], laws=["viscoelastic"])
-    assert [round(s["K"], 6) for s in cork.skipped] == [0.01, 0.01]
-    assert all("double-precision" in s["reason"] for s in cork.skipped)
+    # Cork's tiny overlaps at small K: double-precision positions would limit the extrapolated
+    # errors beyond ROUNDOFF_LIMIT (the two spheres' overlap is half the plane's at one K).
+    assert sorted((s["geometry"], round(s["K"], 6)) for s in cork.skipped) == [
+        ("sphere-plane", 0.01), ("sphere-plane", 0.03), ("sphere-sphere", 0.01), ("sphere-sphere", 0.03),
+        ("sphere-sphere", 0.1)]
+    assert all("double-precision" in s["reason"] and "extrapolated" in s["reason"] for s in cork.skipped)
 
 
 def test_plan_listing_hands_on_runs_and_their_reference_and_refuses_a_stale_plan(tmp_path, monkeypatch):
@@ -85,7 +94,9 @@ def test_plan_listing_hands_on_runs_and_their_reference_and_refuses_a_stale_plan
     monkeypatch.setattr("engines.run_spec.solve_collision", lambda K: pytest.fail("solved again"))
     runs = runs_from_listing(case, listing, "yade")
     assert [r.name for r in runs] == [e["name"] for e in listing["runs"] if e["engine"] == "yade"]
-    assert len(runs) == 2 * 2 * 4  # geometries x K x laws (viscoelastic, clipped, elastic, default)
+    # geometries x K x rungs of the laws (viscoelastic 4, clipped 4, elastic 3, default 1)
+    assert len(runs) == 2 * 2 * (4 + 4 + 3 + 1)
+    assert {e["ladder"] for e in listing["runs"] if e["engine"] == "yade"} == {r.ladder for r in runs}
     for r in runs:
         assert r.steps() == next(e["steps"] for e in listing["runs"] if e["name"] == r.name)
         assert r.reference == plan_module.solve_collisions([r.K]).row(0)  # the plan's batch, bit for bit
@@ -112,7 +123,7 @@ def test_elastic_law_runs_hertz_alone_and_unavailable_laws_are_listed_with_their
         codes.CODES["yade"], unavailable={"viscoelastic": reason, "viscoelastic_clipped": reason}))
     p = plan_runs(case, ["lammps", "yade"])
     elastic = [r for r in p.runs if r.law == "elastic"]
-    assert len(elastic) == 2 * 2 * 2  # builds x geometries x velocities
+    assert len(elastic) == 2 * 2 * 2 * 3  # builds x geometries x velocities x rungs
     for r in elastic:
         assert r.pair.eta == 0 and r.K == 0 and r.represents == ("x0",)
         assert r.reference["eps_x0"] == pytest.approx(1.0, abs=1e-15)

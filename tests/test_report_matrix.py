@@ -123,7 +123,7 @@ def test_a_failed_run_with_no_result_fails_its_cell_without_a_number():
     cells = matrix_cells(gate_checks(pd.DataFrame(rows), plan, failed, TOL), (), ["lammps-2021"])
     c = cell(cells, "lammps-2021", "viscoelastic_clipped", "sphere-sphere", "F0")
     assert c.status == "fail" and math.isnan(c.worst_error) and c.failing == "T, A, eps"
-    assert cell_text(c) == "✘ no result" and "1 of 1 runs failed; first: b: lammps exited" in c.reason
+    assert cell_text(c) == "✘ no result" and "1 of 1 ladders have a failed run; first: b: lammps exited" in c.reason
 
 
 def test_a_law_no_build_can_run_still_gets_its_columns_of_na():
@@ -202,12 +202,12 @@ def test_html_table_rows_columns_classes_and_titles(study):
     fail = by_build["lammps-2025"][2]
     assert fail[2] == "✘ 6.0e-04 (T)"  # the text says it, not the colour alone
     assert fail[1]["title"].startswith("FAIL — T: 6.000e-04 > 0.0005 (case steel, K = 0.3)")
-    assert "largest error: T 6.000e-04 (tolerance 0.0005) in run lammps-2025-ve-sphere-plane-2" in fail[1]["title"]
+    assert "largest extrapolated error: T 6.000e-04 (tolerance 0.0005) in run lammps-2025-ve-sphere-plane-2" in fail[1]["title"]
     na = by_build["yade-2023"][4]
     assert na[2] == "n/a1" and NA_REASON in na[1]["title"]  # "n/a" and its note's number (<sup>)
     ok = by_build["lammps-2021"][0]
     assert ok[2] == "✔ 4.0e-05"
-    assert ok[1]["title"].startswith("pass — largest error: eps 4.000e-05 (tolerance 0.0005) in run lammps-2021-ve-")
+    assert ok[1]["title"].startswith("pass — largest extrapolated error: eps 4.000e-05 (tolerance 0.0005) in run lammps-2021-ve-")
 
 
 def test_default_law_is_compared_in_its_own_matrix(study):
@@ -309,3 +309,24 @@ def test_legend_names_only_the_kinds_of_cell_the_matrix_has(study):
     without = "\n".join(matrix_markdown(matrix_cells(checks, (), BUILDS), TOL))
     assert "n/a: the build's code" in with_na and "n/a" not in without
     assert "– : the build has no run" in without  # YADE has no clipped cell, and none is n/a
+
+
+def test_a_cell_shows_its_extrapolated_error_and_the_resolution_it_was_judged_at():
+    """Ladder limits (dt = 0) with their resolutions: '✔ 4.1e-09 (res 1.6e-07)' where the check
+    passes with its resolution added, '✘ 8.0e-07 (res 5.0e-07; eps)' where the error is within
+    the tolerance but not resolved at it; the hover text says the resolution too."""
+    from postprocess.report_matrix import cell_title
+
+    tol = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
+    rows = []
+    for build, eps, res in (("lammps-2021", 4.1e-9, 1.6e-7), ("lammps-2025", 8e-7, 5e-7)):
+        for r in summary_rows(f"{build}-ve", build, "viscoelastic", "sphere-plane", 0.1, T=1e-9, A=2e-9, eps=eps):
+            rows.append({**r, "dt": 0.0, "ladder": r["run"], **{f"resolution_{q}": res for q in ("T", "A", "eps")}})
+    checks = gate_checks(pd.DataFrame(rows), planned(rows), pd.DataFrame(columns=["run", "problem", "log"]), tol)
+    cells = matrix_cells(checks, (), ["lammps-2021", "lammps-2025"])
+    good = cell(cells, "lammps-2021", "viscoelastic", "sphere-plane", "x0")
+    bad = cell(cells, "lammps-2025", "viscoelastic", "sphere-plane", "x0")
+    assert cell_text(good) == "✔ 4.1e-09 (res 1.6e-07)" and good.resolution == pytest.approx(1.6e-7)
+    assert cell_text(bad) == "✘ 8.0e-07 (res 5.0e-07; eps)"
+    assert "judged at a resolution of 1.6e-07" in cell_title(good)
+    assert "not resolved at this tolerance" in cell_title(bad)

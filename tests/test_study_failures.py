@@ -2,8 +2,8 @@
 
 Each test runs the workflow on a copy of the project with one small case (steel spheres, K = 0.1)
 and, where it needs a faulty engine, a wrapper named `lmp` put first on PATH: it runs the real
-LAMMPS and then spoils what it wrote (times stretched by 1 %, the out-of-the-box records deleted),
-or crashes, or hangs. The tests check what a user and a CI see: the exit status, the verdict at the
+LAMMPS and then spoils what it wrote (a collision 1 % slower: times x 1.01, velocities / 1.01;
+the out-of-the-box records deleted), or crashes, or hangs. The tests check what a user and a CI see: the exit status, the verdict at the
 top of the report, the JUnit XML, and that nothing saying PASS survives a failed or killed rerun.
 """
 
@@ -46,9 +46,11 @@ if sweep and {mode!r} == "hang":
     time.sleep(120)
 rc = subprocess.call([{real!r}, *args])
 for raw in glob.glob("*.lammps.txt") if sweep else []:
-    if "stretch" in {mode!r} and "-viscoelastic" in raw:
+    if "slow" in {mode!r} and "-viscoelastic" in raw:
+        # the same collision 1 % slower, consistently: t -> 1.01 t, d(delta)/dt -> / 1.01
         lines = open(raw).read().splitlines()
-        rows = [" ".join([repr(float(w[0]) * 1.01)] + w[1:]) for w in (line.split() for line in lines[1:])]
+        rows = [" ".join([repr(float(w[0]) * 1.01), w[1], repr(float(w[2]) / 1.01), w[3]])
+                for w in (line.split() for line in lines[1:])]
         open(raw, "w").write("\\n".join([lines[0]] + rows) + "\\n")
     if "drop-default" in {mode!r} and "-default-" in raw:
         os.remove(raw)
@@ -63,9 +65,9 @@ def project(tmp_path):
 
 
 def faulty_lammps(tmp_path, mode) -> dict:
-    """The environment with a wrapper `lmp` first on PATH. Modes: stretch (times of the
-    viscoelastic runs x 1.01), drop-default (the out-of-the-box records deleted), both joined by
-    '+', crash (exit 139 at once), hang (sleep before running)."""
+    """The environment with a wrapper `lmp` first on PATH. Modes: slow (the viscoelastic runs'
+    collisions 1 % slower: times x 1.01, velocities / 1.01), drop-default (the out-of-the-box
+    records deleted), both joined by '+', crash (exit 139 at once), hang (sleep before running)."""
     real = shutil.which("lmp")
     bin_dir = tmp_path / f"bin-{mode}"
     bin_dir.mkdir()
@@ -100,33 +102,39 @@ def test_too_tight_tolerance_fails_and_no_earlier_pass_survives(project):
     ok = study(project)
     assert ok.returncode == 0, ok.stderr[-3000:]
     assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
-    # Tolerances through --config arrive as strings in a mapping: accepted as numbers.
-    tight = study(project, "tolerance={T: 1e-6, A: 1.0e-6, eps: 5e-4}")
+    # Tolerances through --config arrive as strings in a mapping: accepted as numbers. 1e-8 is below
+    # the ladders' resolution (~1e-7): T and A cannot be judged at it, and their checks fail.
+    tight = study(project, "tolerance={T: 1e-8, A: 1.0e-8, eps: 1e-6}")
     assert tight.returncode != 0
     assert not (project / "results" / "gate.txt").exists()
     head = report_head(project)
     assert "**Verdict: FAIL** — 2 of 6 gated checks" in head
+    assert "not resolved at this tolerance" in head
     expected = {f"lammps.viscoelastic.sphere-sphere.{c}.{q}" for c in ("x0", "F0") for q in ("T", "A")}
     assert junit(project) == (6, expected)
     for name in expected:
         line = "lammps viscoelastic sphere-sphere " + name.split("sphere-sphere.")[1].replace(".", " ")
         assert f"- {line}: " in head and line in tight.stdout + tight.stderr
     verdict = json.loads((project / "results" / "verdict.json").read_text())
-    assert verdict["verdict"] == "FAIL" and verdict["failed"] == 4 and verdict["tolerance"]["T"] == 1e-6
+    assert verdict["verdict"] == "FAIL" and verdict["failed"] == 4 and verdict["tolerance"]["T"] == 1e-8
 
 
-def test_engine_one_percent_wrong_fails_only_the_time_checks_and_a_failed_default_run_is_not_gated(
+def test_engine_one_percent_slow_fails_its_time_and_restitution_checks_and_a_failed_default_run_is_not_gated(
         project, tmp_path):
-    out = study(project, env=faulty_lammps(tmp_path, "stretch+drop-default"))
+    out = study(project, env=faulty_lammps(tmp_path, "slow+drop-default"))
     assert out.returncode != 0
     summary = pd.read_csv(project / "results" / "summary.csv")
-    gated = summary[summary.law == "viscoelastic"]
-    # T stretched by 1 % on top of the engine's own -5.5e-5: err_T = 1.01 (1 + e) - 1.
-    assert gated.err_T.to_numpy() == pytest.approx(0.01, abs=2e-4)
-    # Only the time checks fail: the out-of-the-box run that failed is reported, never gated.
-    assert junit(project) == (6, {"lammps.viscoelastic.sphere-sphere.x0.T", "lammps.viscoelastic.sphere-sphere.F0.T"})
-    assert "**Verdict: FAIL** — 4 of 6 gated checks" in report_head(project)
-    assert "lammps viscoelastic sphere-sphere x0 T: 9.9" in out.stdout + out.stderr  # 1.01 (1 - 5.5e-5) - 1
+    gated = summary[(summary.law == "viscoelastic") & (summary.dt == 0)]
+    # 1 % slower on top of the engine's own ~1e-9 at dt -> 0: err_T = 1.01 (1 + e) - 1 and
+    # err_eps = (1 + e) / 1.01 - 1; the overlap, hence A, is the engine's.
+    assert len(gated) == 2 and gated.err_T.to_numpy() == pytest.approx(0.01, abs=1e-7)
+    assert gated.err_eps.to_numpy() == pytest.approx(1 / 1.01 - 1, abs=1e-7)
+    assert (gated.err_A.abs() < 1e-7).all() and (gated.problem.isna() | (gated.problem == "")).all()
+    # The T and eps checks fail, A passes: the out-of-the-box run that failed is reported, never gated.
+    assert junit(project) == (6, {f"lammps.viscoelastic.sphere-sphere.{c}.{q}" for c in ("x0", "F0")
+                                  for q in ("T", "eps")})
+    assert "**Verdict: FAIL** — 2 of 6 gated checks" in report_head(project)
+    assert "lammps viscoelastic sphere-sphere x0 T: 1.000e-02 > 1e-06" in out.stdout + out.stderr
     report = (project / "results" / "report.md").read_text()
     section = report.split("## Runs not made or not completed")[1]
     assert "| steel | lammps | default | lammps-default-sphere-sphere-K0.1-" in section
@@ -141,8 +149,8 @@ def test_crashed_engine_fails_every_check_naming_the_run(project, tmp_path):
     assert n == 6 and len(failing) == 6
     head = report_head(project)
     assert "**Verdict: FAIL** — 0 of 6 gated checks" in head
-    assert "1 of 1 runs failed; first: lammps-viscoelastic-sphere-sphere-K0.1-" in head
-    assert "139" in head and "1 of 1 runs failed" in out.stdout + out.stderr
+    assert "1 of 1 ladders have a failed run; first: lammps-viscoelastic-sphere-sphere-K0.1-" in head
+    assert "139" in head and "1 of 1 ladders have a failed run" in out.stdout + out.stderr
 
 
 def test_hung_engine_is_stopped_and_fails_every_check(project, tmp_path):
@@ -226,18 +234,18 @@ def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_
     shutil.copytree(project, baseline)
     ok = study(baseline)
     assert ok.returncode == 0, ok.stderr[-3000:]
-    # The candidate: the same study with an engine whose times are 1 % long, compared through the workflow.
-    out = study(project, f"compare_baseline={baseline / 'results'}", env=faulty_lammps(tmp_path, "stretch"),
+    # The candidate: the same study with an engine whose collisions are 1 % slow, compared through the workflow.
+    out = study(project, f"compare_baseline={baseline / 'results'}", env=faulty_lammps(tmp_path, "slow"),
                 target="compare")
-    assert out.returncode != 0 and "2 regressions against the baseline" in out.stdout + out.stderr
+    assert out.returncode != 0 and "4 regressions against the baseline" in out.stdout + out.stderr
     comparison = pd.read_csv(project / "results" / "compare" / "compare.csv")
     regressions = comparison[comparison.status == "regression"]
-    assert sorted(regressions.criterion + " " + regressions.quantity) == ["F0 T", "x0 T"]
-    assert (comparison[comparison.quantity != "T"].status == "unchanged").all()
-    assert regressions.change.min() > 100  # 5e-5 -> 1e-2
+    assert sorted(regressions.criterion + " " + regressions.quantity) == ["F0 T", "F0 eps", "x0 T", "x0 eps"]
+    assert (comparison[comparison.quantity == "A"].status == "unchanged").all()
+    assert regressions.change.min() > 1e5  # ~1e-9 -> 1e-2
     assert not (project / "results" / "compare" / "gate.txt").exists()
     # The other way round (baseline: the faulty build) the same checks are fixes, and it passes.
     back = subprocess.run([sys.executable, "-m", "postprocess.compare", str(project / "results"),
                            str(baseline / "results"), "--out", str(tmp_path / "back")], cwd=ROOT,
                           capture_output=True, text=True, timeout=120)
-    assert back.returncode == 0 and "0 regressions, 2 fixes" in back.stdout
+    assert back.returncode == 0 and "0 regressions, 4 fixes" in back.stdout

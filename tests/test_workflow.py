@@ -67,7 +67,8 @@ def test_one_case_for_real_then_only_changes_rerun(project):
     out = snakemake("-j2", "steel", *args, cwd=project)
     assert out.returncode == 0, out.stderr
     summary = (project / "results" / "steel" / "summary.csv").read_text().splitlines()
-    assert len(summary) == 1 + 2 * 2 * 2  # header + engines x geometries x criteria
+    # header + engines x geometries x (4 rungs + the ladder's limit) x criteria
+    assert len(summary) == 1 + 2 * 2 * (4 + 1) * 2
     assert (project / "logs" / "steel" / "liggghts.log").exists()
     assert (project / "benchmarks" / "steel" / "yade.tsv").exists()
     again = snakemake("-n", "steel", *args, cwd=project)
