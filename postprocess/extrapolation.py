@@ -9,7 +9,9 @@ of the same columns as a run's, with ``dt`` = 0 (the limit), and
     estimate_q    the ladder's own bound of what the extrapolation leaves (`engines.ladder`);
     roundoff      what the round-off of positions can leave: sqrt(sum_k (w_k floor_k)^2), w the
                   Richardson weights and floor_k each rung's `RunSpec.roundoff_floor`;
-    resolution_q  max(estimate_q, roundoff): the smallest error of q this ladder can tell from 0;
+    resolution_q  max(estimate_q, roundoff, RESOLUTION_FLOOR): the smallest error of q this ladder
+                  can tell from 0 (`engines.ladder.RESOLUTION_FLOOR`: 1e-8, where the estimate
+                  stops being a series' and becomes rounding);
     order_q       the observed order of the rungs' errors about the limit (1 for the
                   dissipative laws, 2 for the elastic one: the engines' map);
     rungs_q       the rungs' raw errors, coarsest first, ';'-separated, and rung_factors the
@@ -29,7 +31,8 @@ import math
 import numpy as np
 import pandas as pd
 
-from engines.ladder import PHASE_TOLERANCE, START_PHASE, extrapolate, phase_offset, powers_of, richardson_weights
+from engines.ladder import (PHASE_TOLERANCE, RESOLUTION_FLOOR, START_PHASE, extrapolate, phase_offset, powers_of,
+                            richardson_weights)
 
 from .comparison import measured
 
@@ -90,7 +93,7 @@ def _limit_row(g: pd.DataFrame) -> dict:
         e = extrapolate(h, g[f"err_{q}"].to_numpy(dtype=float), powers)
         limits[q] = e.value
         row.update({f"err_{q}": e.value, f"estimate_{q}": e.estimate, f"order_{q}": e.order,
-                    f"resolution_{q}": max(e.estimate, roundoff) if math.isfinite(roundoff) else e.estimate,
+                    f"resolution_{q}": max(e.estimate, roundoff if math.isfinite(roundoff) else 0.0, RESOLUTION_FLOOR),
                     f"rungs_{q}": ";".join(f"{x:.6e}" for x in g[f"err_{q}"])})
     # The engine's values in the limit, and Q1, Q2 (and their errors) from them.
     ref = {q: float(finest[f"{q}_ref"]) for q in ("T", "A", "eps", "Q1", "Q2")}

@@ -22,9 +22,14 @@ from .gate import GATED_QUANTITIES  # noqa: E402
 def resolution_sentence(checks: pd.DataFrame, tolerance: dict) -> str:
     """One sentence: the tolerance the gate resolves, the range of the checks' resolutions, and
     the smallest engine error the study can see (the largest resolution of any check) and the
-    error that fails for certain (tolerance + that resolution). '' without resolutions."""
+    error that fails for certain (tolerance + that resolution). Checks whose ladders could not
+    be judged (a failed run, a misaligned ladder: their own estimate means nothing) are left out
+    and counted. '' without resolutions."""
     if not len(checks) or "resolution" not in checks.columns:
         return ""
+    judged = (checks.failed == 0) & ~checks.reason.fillna("").str.contains("misaligned ladder", regex=False)
+    unjudged = int((~judged).sum())
+    checks = checks[judged]
     res = checks.resolution.to_numpy(dtype=float)
     res = res[np.isfinite(res)]
     if not len(res):
@@ -33,11 +38,13 @@ def resolution_sentence(checks: pd.DataFrame, tolerance: dict) -> str:
     tolerances = sorted({float(tolerance[q]) for q in GATED_QUANTITIES})
     tol_text = " / ".join(f"{t:g}" for t in tolerances)
     certain = ", ".join(f"{q} {tolerance[q] + per_q[q]:.2g}" for q in GATED_QUANTITIES if q in per_q)
+    left_out = (f" ({unjudged} more could not be judged: a run failed or a ladder was misaligned)"
+                if unjudged else "")
     return (f"**Resolution:** this study resolves relative errors of {tol_text} in T, A and eps: every gated run "
             "is a ladder of time steps extrapolated to dt -> 0, and a check passes only when its error plus its "
-            f"resolution stays within the tolerance. Its {len(res)} gated checks were judged at resolutions of "
-            f"{res.min():.1e} to {res.max():.1e} (median {np.median(res):.1e}): the smallest engine error it can "
-            f"see is {res.max():.1e}, and an engine error above {certain} fails for certain.")
+            f"resolution stays within the tolerance. Its {len(res)} gated checks{left_out} were judged at "
+            f"resolutions of {res.min():.1e} to {res.max():.1e} (median {np.median(res):.1e}): the smallest "
+            f"engine error it can see is {res.max():.1e}, and an engine error above {certain} fails for certain.")
 
 
 def ladder_settings(ladder: dict | None) -> str:
