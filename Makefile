@@ -30,6 +30,7 @@ test: engines lammps-2025 kratos-10.4 venv
 bench: engines lammps-2025 kratos-10.4 venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
 	$(PY) -m benchmarks.study
+	$(PY) -m benchmarks.sensitivity
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.calibration_coverage
 
 # The DEM engines come from Debian's packages; skip apt when they are already there.
