@@ -16,6 +16,8 @@ of the same columns as a run's, with ``dt`` = 0 (the limit), and
                   dissipative laws, 2 for the elastic one: the engines' map);
     rungs_q       the rungs' raw errors, coarsest first, ';'-separated, and rung_factors the
                   rungs' T_e / dt;
+    map_err_q     of the rungs' differences from the engines' map replayed at their own dt
+                  (`postprocess.map_reference`), the largest in magnitude (signed);
     phase_offset  the largest distance (in steps) of a rung's contact start from the planned
                   phase; a ladder beyond `engines.ladder.PHASE_TOLERANCE` is misaligned, and
                   ``problem`` says so (the gate fails its checks: its limit is not trustworthy).
@@ -95,6 +97,9 @@ def _limit_row(g: pd.DataFrame) -> dict:
         row.update({f"err_{q}": e.value, f"estimate_{q}": e.estimate, f"order_{q}": e.order,
                     f"resolution_{q}": max(e.estimate, roundoff if math.isfinite(roundoff) else 0.0, RESOLUTION_FLOOR),
                     f"rungs_{q}": ";".join(f"{x:.6e}" for x in g[f"err_{q}"])})
+        if f"map_err_{q}" in g.columns and g[f"map_err_{q}"].notna().any():
+            on_map = g[f"map_err_{q}"].to_numpy(dtype=float)
+            row[f"map_err_{q}"] = float(on_map[np.nanargmax(np.abs(on_map))])
     # The engine's values in the limit, and Q1, Q2 (and their errors) from them.
     ref = {q: float(finest[f"{q}_ref"]) for q in ("T", "A", "eps", "Q1", "Q2")}
     engine = {q: ref[q] * (1.0 + limits[q]) for q in GATED_QUANTITIES}

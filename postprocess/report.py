@@ -34,7 +34,7 @@ from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa
 from .gate import GATED_QUANTITIES, gating, with_build  # noqa: E402
 from .report_matrix import (build_order, default_law_cells, default_matrix_html, default_matrix_markdown,  # noqa: E402
                             matrix_cells, matrix_html, matrix_markdown)
-from .report_resolution import ladder_settings, plot_ladders, resolution_sentence  # noqa: E402
+from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence  # noqa: E402
 from .verdict_files import write_atomically  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
@@ -380,6 +380,7 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
             lines += ["Every gated ladder, rung by rung: the part of each rung's error that the extrapolation "
                       "removes (`rungs_T`, `rungs_A`, `rungs_eps` of the ladder's limit row in summary.csv).", "",
                       "![ladders](plots/ladders.png)", ""]
+    lines += map_section(ladder_runs, builds)
     if has_rows and (table.law == "default").any():
         d = table[table.law == "default"]
         drift = d.groupby(["build", "geometry", "criterion"]).agg(

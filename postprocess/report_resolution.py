@@ -101,3 +101,29 @@ def plot_ladders(runs: pd.DataFrame, limits: pd.DataFrame, tolerance: dict, path
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
+
+
+def map_section(runs: pd.DataFrame, builds=None) -> list[str]:
+    """The engines against their own map (`postprocess.map_reference`): per build and law, the
+    largest |engine - map| over every rung of every case, for T, A and eps, beside the largest
+    round-off floor of those runs. [] when the summary has no map columns."""
+    if not len(runs) or "map_err_T" not in runs.columns or runs.map_err_T.isna().all():
+        return []
+    runs = runs.dropna(subset=["map_err_T"])
+    order = [b for b in (builds or []) if b in set(runs.build)] + [b for b in pd.unique(runs.build)
+                                                                   if b not in set(builds or [])]
+    rows = []
+    for build in order:
+        for law, g in runs[runs.build == build].groupby("law", sort=False):
+            worst = {q: g[f"map_err_{q}"].abs().max() for q in GATED_QUANTITIES}
+            rows.append(f"| {build} | {law} | {len(g)} | " + " | ".join(f"{worst[q]:.1e}" for q in GATED_QUANTITIES)
+                        + f" | {g.roundoff_floor.max():.1e} |")
+    largest = runs[[f"map_err_{q}" for q in GATED_QUANTITIES]].abs().max().max()
+    return ["## The engines against their own map", "",
+            "Beside the gate, which judges each ladder's limit against the ODE: every gated run against the map "
+            "the engines share (`reference/engine_map.py`), replayed at the run's own time step. A build that "
+            "implements the law exactly reproduces it to its own rounding at any dt, without extrapolation. "
+            "Largest |engine / map - 1| over every rung of every case and criterion (`map_err_*` in summary.csv), "
+            "and the largest round-off floor sqrt(N) u X / delta_max of those runs:", "",
+            "| build | law | rows | T | A | eps | round-off floor |", "|---|---|---|---|---|---|---|", *rows, "",
+            f"Every run is within {largest:.1e} of the map.", ""]

@@ -33,12 +33,16 @@ def withdraw_verdict(results_dir="results") -> list[str]:
     """Remove every file that carries a verdict from `results_dir` (the names removed).
 
     Called first by every rule that changes results: a rerun that fails or is interrupted
-    then leaves no verdict beside results it does not describe.
+    then leaves no verdict beside results it does not describe. Jobs that start together (every
+    case's summary) withdraw the same files at once: a file another job removed first is gone,
+    which is what was asked, not an error.
     """
     removed = []
     for name in VERDICT_FILES:
         p = Path(results_dir) / name
-        if p.exists():
+        try:
             p.unlink()
-            removed.append(str(p))
+        except FileNotFoundError:
+            continue
+        removed.append(str(p))
     return removed

@@ -214,3 +214,24 @@ def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the
     skipped = [c for c in root.iter("testcase") if c.find("skipped") is not None]
     assert all(c.get("classname").split(".")[1].startswith("regression:") for c in skipped)
     assert all(c.find("failure") is None for c in root.iter("testcase"))
+
+
+def test_withdrawing_at_once_from_two_jobs_is_no_error(tmp_path, monkeypatch):
+    """Every case's summary withdraws the study's verdict when it starts: two jobs that start
+    together race for the same files. One that finds a file already gone goes on (it is gone, as
+    asked) and lists only what it removed itself (this raised FileNotFoundError before)."""
+    import pathlib
+
+    for name in VERDICT_FILES:
+        (tmp_path / name).write_text("PASS\n")
+    real_unlink = pathlib.Path.unlink
+
+    def other_job_first(self, *args, **kwargs):
+        if self.name == "gate.txt":  # the other job removes gate.txt between our look and our unlink
+            real_unlink(self)
+        return real_unlink(self, *args, **kwargs)
+
+    monkeypatch.setattr(pathlib.Path, "unlink", other_job_first)
+    removed = withdraw_verdict(tmp_path)
+    assert sorted(removed) == sorted(str(tmp_path / n) for n in VERDICT_FILES if n != "gate.txt")
+    assert not any((tmp_path / n).exists() for n in VERDICT_FILES)

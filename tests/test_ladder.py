@@ -209,3 +209,28 @@ def test_aligned_time_step_puts_a_whole_number_of_steps_into_the_contact():
     with pytest.raises(ValueError):
         aligned_time_step(0.0, T_e, 1000)
     assert rung_factor(250, 0.5) == 250 and rung_factor(250, 5.0) == 559
+
+
+@pytest.mark.parametrize("law,K", [("viscoelastic", 0.3), ("viscoelastic_clipped", 2.0), ("elastic", 0.0)])
+def test_the_maps_own_record_in_physical_units_is_on_the_map(law, K):
+    """postprocess.map_reference replays the map at a run's dt from its dump header: the map's
+    own record, put in a run's physical units (delta_e = 2e-6 m, V = 0.5 m/s), differs from it by
+    rounding alone (1e-13); the out-of-the-box law has no map."""
+    from postprocess.map_reference import map_errors
+
+    delta_e, V = 2e-6, 0.5
+    clipped = law == "viscoelastic_clipped"
+    r = solve_collision(K) if K > 0 else {"tau_0": HERTZ_TAU, "tau_f": HERTZ_TAU}
+    h = aligned_time_step(r["tau_f"] if clipped else r["tau_0"], HERTZ_TAU, 700)
+    d = replay(K, h, int(20 + 1.25 * (r["tau_f"] + 0.8 * K if clipped else r["tau_0"]) / h + 30), clipped=clipped)
+    t, x, v, f = d[:, 0] * delta_e / V, d[:, 1] * delta_e, d[:, 2] * V, d[:, 3] * 3.0  # any force unit
+    m = collision_metrics(t, x, v, f, impact_velocity=V)
+    represents = ["F0"] if clipped else ["x0"] if K == 0 else ["x0", "F0"]
+    meta = {"law": law, "K": K, "time_step": h * delta_e / V, "impact_velocity": V, "delta_e": delta_e,
+            "start_phase": START_PHASE, "represents": represents}
+    errors = map_errors(meta, m, len(t) - 1)
+    assert set(errors) == set(represents)
+    for criterion in represents:
+        for q, e in errors[criterion].items():
+            assert abs(e) < 1e-13, (criterion, q, e)
+    assert map_errors({**meta, "law": "default"}, m, len(t) - 1) == {}

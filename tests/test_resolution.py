@@ -204,3 +204,16 @@ def test_a_ladder_whose_contact_starts_late_at_one_rung_is_caught(study):
     assert (has_500 == ~((limits.K >= 2) & (limits.law != "elastic"))).all()  # sqrt(K)-refined above K = 1
     assert limits[has_500].problem.str.startswith("misaligned ladder").all()
     assert limits[~has_500].problem.isna().all() and (limits[~has_500].phase_offset.abs() < 1e-9).all()
+
+
+def test_the_discrete_reference_sees_a_defect_at_every_rung(study):
+    """Beside the gate, each rung against the engines' map replayed at its own dt
+    (postprocess.map_reference): the clean builds reproduce it to 1e-7 at every rung of every case;
+    LAMMPS with kn x (1 + 1e-5) is off by its -4e-6 in T at every rung, no extrapolation needed."""
+    _, _, summary, _ = study
+    rungs = summary[(summary.dt > 0) & summary.law.isin(["viscoelastic", "viscoelastic_clipped", "elastic"])]
+    clean = rungs[rungs.build.isin(list(CLEAN))]
+    assert len(clean) > 0 and (clean[["map_err_T", "map_err_A", "map_err_eps"]].abs().max() < 1e-7).all()
+    kn = rungs[(rungs.build == "lammps-kn") & (rungs.law == "elastic")]
+    assert kn.map_err_T.to_numpy() == pytest.approx(-0.4 * RELATIVE, abs=3e-8)
+    assert kn.map_err_A.to_numpy() == pytest.approx(-0.4 * RELATIVE, abs=3e-8)

@@ -16,6 +16,7 @@ import pandas as pd
 from common import start_rule
 from postprocess.comparison import comparison_rows
 from postprocess.extrapolation import extrapolated_rows
+from postprocess.map_reference import map_errors
 from postprocess.run_manifest import manifest_dumps
 
 log = start_rule(snakemake)
@@ -24,9 +25,12 @@ loaded = [d for m in snakemake.input.manifests for d in manifest_dumps(m)]
 # The reference solution of every run was solved once, by the plan: no ODE is solved here.
 reference = {r["name"]: r["reference"] for r in json.load(open(snakemake.input.plan))["runs"]}
 rows = []
-for path, meta, _, m in loaded:
+for path, meta, columns, m in loaded:
+    # beside the ODE reference, the discrete one: the engines' map replayed at this run's dt
+    on_map = map_errors(meta, m, len(columns["time"]))
     for row in comparison_rows(meta, m, reference[Path(path).stem]):  # the paper's series: parsed once
-        rows.append({**row, "run": Path(path).stem, "dump": os.path.relpath(path, results)})
+        rows.append({**row, "run": Path(path).stem, "dump": os.path.relpath(path, results),
+                     **{f"map_err_{q}": e for q, e in on_map.get(row["criterion"], {}).items()}})
 # With no dump at all (every run failed) the table still has its columns: the gate then fails
 # every planned check by name instead of the summary rule failing on an empty file.
 table = pd.DataFrame(rows) if rows else pd.DataFrame(columns=["case", "build", "engine", "engine_version", "law", "geometry",

@@ -1,0 +1,52 @@
+"""The discrete reference of an engine run: the engines' own map (`reference.engine_map`) replayed
+at the run's time step, beside the gate (which judges the ladders' limits against the ODE).
+
+Every build of the study advances a collision with the same map, so a run that implements the
+law exactly reproduces the map's replay at its own dt to round-off, at any dt: no extrapolation,
+no time-step error to remove. The differences (`map_errors`: the engine's T, A and eps against
+the replay's, relative) are a diagnostic, not a check: they show an implementation error of a
+build at every rung (kn x (1 + 1e-5) moves T by 4e-6 at every dt), and how far each engine's
+rounding (positions stored at the magnitude of the radius; ESyS's forces read back from velocity
+jumps) takes it from the exact map.
+
+Pure functions; the replay is in the reference solver's units (x = delta / delta_e,
+tau = t V / delta_e), the engine's numbers are made dimensionless with its run's scales.
+"""
+
+from __future__ import annotations
+
+import math
+
+from engines.run_spec import GATED_LAWS, GAP_STEPS
+from reference.engine_map import replay
+
+from .collision_metrics import CollisionMetrics, ExtractionError, collision_metrics
+
+
+def map_metrics(meta: dict, samples: int) -> CollisionMetrics:
+    """The map's collision for the run of dump header `meta` (its K, time step, start phase and
+    law), `samples` samples long, extracted like an engine's record (dimensionless)."""
+    h = meta["time_step"] * meta["impact_velocity"] / meta["delta_e"]
+    d = replay(meta["K"], h, samples, start_phase=meta.get("start_phase", 0.5), gap_steps=GAP_STEPS,
+               clipped=meta["law"] == "viscoelastic_clipped")
+    return collision_metrics(*d.T, impact_velocity=1.0)
+
+
+def map_errors(meta: dict, m: CollisionMetrics, samples: int) -> dict:
+    """{criterion: {'T', 'A', 'eps': the engine's value / the map's - 1}} of a run of a gated law
+    (empty for the out-of-the-box law, which is not the map's force, and where the map's
+    collision cannot be extracted)."""
+    if meta["law"] not in GATED_LAWS:
+        return {}
+    try:
+        ref = map_metrics(meta, samples)
+    except ExtractionError:
+        return {}
+    to_t = meta["delta_e"] / meta["impact_velocity"]
+    out = {}
+    for criterion in meta["represents"]:
+        T, T_map = (m.T_x0, ref.T_x0) if criterion == "x0" else (m.T_F0, ref.T_F0)
+        eps, eps_map = (m.eps_x0, ref.eps_x0) if criterion == "x0" else (m.eps_F0, ref.eps_F0)
+        out[criterion] = {"T": T / (T_map * to_t) - 1.0, "A": m.delta_max / (ref.delta_max * meta["delta_e"]) - 1.0,
+                          "eps": eps / eps_map - 1.0 if eps_map != 0 else math.nan}
+    return out
