@@ -139,21 +139,26 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
         sel = sel[~sel.ladder.isin(failed_ladders)] if len(sel) else sel
         n_planned, n_landed, n_failed = len(ladders), len(sel), len(failed_ladders)
         missing = [x for x in ladders if x not in set(sel.ladder if len(sel) else ()) and x not in failed_ladders]
-        problems = ([p for p in sel["problem"].fillna("").astype(str) if p] if len(sel) and "problem" in sel.columns
-                    else [])
+        # A ladder with a problem (misaligned) is reported by it: its limit means nothing, so it is
+        # not judged by its number.
+        flawed = (sel["problem"].astype(object).fillna("").astype(str) if len(sel) and "problem" in sel.columns
+                  else pd.Series("", index=sel.index, dtype=object))
+        problems = [p for p in flawed if p]
         for q in GATED_QUANTITIES:
             row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q,
                    "planned": n_planned, "landed": n_landed, "failed": n_failed, "max_abs_error": math.nan,
                    "resolution": math.nan, "at_K": math.nan, "case": "", "at_run": "",
                    "tolerance": float(tolerance[q]), "pass": False, "reason": "", "gates": True,
                    "observed_order": math.nan, "rung_factors": "", "rung_errors": ""}
-            reasons = []
+            reasons = [problems[0] + (f" ({len(problems)} ladders)" if len(problems) > 1 else "")] if problems else []
             if n_landed:
                 errors = sel[f"err_{q}"].to_numpy(dtype=float)
                 known = f"resolution_{q}" in sel.columns  # a summary from before ladders has none
                 res = sel[f"resolution_{q}"].to_numpy(dtype=float) if known else np.zeros(len(sel))
                 res = np.where(np.isnan(res), 0.0, res)
-                i = int(np.nanargmax(np.abs(errors))) if not np.isnan(errors).all() else 0
+                sound = (flawed == "").to_numpy()
+                shown = np.where(sound, errors, np.nan) if sound.any() else errors  # a flawed limit is no error
+                i = int(np.nanargmax(np.abs(shown))) if not np.isnan(shown).all() else 0
                 worst = sel.iloc[i]
                 row.update(max_abs_error=float(abs(errors[i])), resolution=float(res.max()) if known else math.nan,
                            at_K=float(worst.K),
@@ -161,24 +166,21 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
                            observed_order=float(worst.get(f"order_{q}", math.nan)),
                            rung_factors=str(worst.get("rung_factors", "")) if pd.notna(worst.get("rung_factors", "")) else "",
                            rung_errors=str(worst.get(f"rungs_{q}", "")) if pd.notna(worst.get(f"rungs_{q}", "")) else "")
-                outcomes = [judge(e, r, tolerance[q]) for e, r in zip(errors, res)]
-                # the ladders that fail, the one that fails by most first
-                order = np.argsort(-(np.abs(np.nan_to_num(errors, nan=np.inf)) + res))
-                for j in order:
+                outcomes = [judge(e, r, tolerance[q]) if ok else "flawed" for e, r, ok in zip(errors, res, sound)]
+                # the sound ladder that fails by most, first
+                for j in np.argsort(-(np.abs(np.nan_to_num(errors, nan=np.inf)) + res)):
                     if outcomes[j] == "fail":
                         judged = f"resolution {res[j]:.1e}; " if known else ""
                         reasons.append(f"{abs(errors[j]):.3e} > {tolerance[q]:g} ({judged}"
                                        f"case {sel.case.iloc[j]}, K = {sel.K.iloc[j]:.4g})")
-                    elif outcomes[j] == "unresolved":
+                        break
+                    if outcomes[j] == "unresolved":
                         reasons.append(f"not resolved at this tolerance: {abs(errors[j]):.3e} with resolution "
                                        f"{res[j]:.1e} straddles {tolerance[q]:g} (case {sel.case.iloc[j]}, "
                                        f"K = {sel.K.iloc[j]:.4g})")
-                    if len(reasons) == 1:
                         break
                 if "nan" in outcomes:
                     reasons.append("a run's error is NaN (the engine gave no value for this criterion)")
-            if problems:
-                reasons.append(problems[0])
             if n_failed:
                 first = sel_failed.iloc[0]
                 reasons.append(f"{n_failed} of {n_planned} ladders have a failed run; first: {first.run}: "

@@ -587,6 +587,7 @@ table.matrix td.compared{background:#fff8e1}
 table.matrix .law-start{border-left:3px solid #666}
 table.matrix .geometry-start{border-left:2px solid #999}
 table.matrix td[title]{cursor:help}
+table.matrix .res{font-size:11px;opacity:0.8}
 """
 
 

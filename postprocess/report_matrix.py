@@ -343,7 +343,9 @@ def matrix_html(cells: pd.DataFrame) -> str:
         for i, c in enumerate(columns):
             cell = by_key.get((b, c), {"status": "none"})
             status = cell["status"]
-            text = escape(cell_text(cell))
+            # the resolution on a line of its own: eight cells of "✔ 3.2e-08 (res 1.8e-07)" overflow a page
+            text = escape(cell_text(cell)).replace(" (res ", '<br><span class="res">(res ', 1)
+            text += "</span>" if '<span class="res">' in text else ""
             if status == "n/a":
                 text += f"<sup>{notes[(cell['engine'], cell['reason'])]}</sup>"
             css = {"n/a": "na"}.get(status, status)

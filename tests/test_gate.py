@@ -85,11 +85,21 @@ def test_an_error_within_the_tolerance_but_not_its_resolution_is_not_a_pass():
     assert eps.reason.str.startswith("not resolved at this tolerance: 8.000e-07 with resolution 5.0e-07 straddles 1e-06").all()
 
 
-def test_a_misaligned_ladder_fails_its_checks_with_the_reason():
+def test_a_misaligned_ladder_fails_its_checks_with_the_reason_and_is_not_judged_by_its_number():
+    """A misaligned ladder's limit means nothing: its checks fail by the problem alone, its number
+    is neither quoted as a failure nor reported as the check's worst error; a sound ladder of the
+    same check is still judged."""
     problem = "misaligned ladder: contact starts +0.25 steps from the planned phase 0.5 at dt = T_e/500"
-    table = pd.DataFrame(rows("a", problem=problem))
+    table = pd.DataFrame(rows("a", problem=problem, T=5e-6))
     checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere")), no_failures(), TOL)
-    assert not checks["pass"].any() and checks.reason.str.contains("misaligned ladder", regex=False).all()
+    assert not checks["pass"].any() and checks.reason.str.startswith("misaligned ladder").all()
+    assert not checks.reason.str.contains("5.000e-06", regex=False).any()
+    both = gate_checks(pd.DataFrame(rows("a", problem=problem, T=5e-6) + rows("b", K=0.3, T=3e-6)),
+                       plan(("a", "lammps", "viscoelastic", "sphere-sphere"), ("b", "lammps", "viscoelastic",
+                                                                            "sphere-sphere")), no_failures(), TOL)
+    t = both[(both.criterion == "x0") & (both.quantity == "T")].iloc[0]
+    assert t.reason.startswith("misaligned ladder") and "3.000e-06 > 1e-06" in t.reason
+    assert t.max_abs_error == pytest.approx(3e-6) and t.at_run == "b"
 
 
 def test_a_failed_rung_fails_its_ladders_checks_naming_run_and_log():
