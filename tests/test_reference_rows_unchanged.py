@@ -10,7 +10,6 @@ run's time step, start phase and printed digits on purpose, and that check went 
 import json
 from pathlib import Path
 
-import pytest
 
 from contact_model import load_case
 from engines.plan import plan_runs

@@ -20,7 +20,6 @@ resolution, at K >= 0.5 (eps) and K >= 1 (T, A) beyond it.
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pandas as pd
 import pytest
