@@ -524,7 +524,9 @@ def _convergence_section(largest: pd.DataFrame, orders: pd.DataFrame | None = No
                   f"{worst.quantity}, dt = T_e/{1 / worst.h:.0f}; `build_spread.csv`). Velocity Verlet (LAMMPS, "
                   "LIGGGHTS), leapfrog (YADE) and symplectic Euler (ESyS, Kratos) are one map on positions and "
                   "half-step velocities, so a time step safe in one build is safe in all.", ""]
-    return lines + ["![convergence](plots/convergence.png)", ""]
+    return lines + ["![convergence](plots/convergence.png)", "",
+                    "The gated runs' own ladders (T_e/125 ... T_e/2000 x sqrt(K)), rung by rung, and what their "
+                    "extrapolation removes from each: ![ladders](plots/ladders.png)", ""]
 
 
 def _paper_section(claims: pd.DataFrame, table1: pd.DataFrame | None, energy_check: pd.DataFrame | None) -> list[str]:
