@@ -28,11 +28,15 @@ KEYS = {"T_x0": ("T_x0", "tau_0"), "A": ("delta_max", "x_max"), "eps_x0": ("eps_
         "T_F0": ("T_F0", "tau_f"), "eps_F0": ("eps_F0", "eps_F0")}
 
 
+#: The reference at K = 0: Hertz alone (x0 and F0 end together, eps = 1).
+HERTZ = {"tau_0": HERTZ_TAU, "tau_f": HERTZ_TAU, "x_max": 1.0, "eps_x0": 1.0, "eps_F0": 1.0}
+
+
 def map_run(K, factor, clipped=False, start_phase=START_PHASE, position_scale=0.0):
     """The map's collision at dt ~ T_e / factor, aligned like a rung of the study (the x0 end, or
     the F0 end when clipped, a whole number of steps after the start), and its metrics, in the
     reference's units (V = delta_e = 1)."""
-    r = solve_collision(K) if K > 0 else {"tau_0": HERTZ_TAU, "tau_f": HERTZ_TAU, "x_max": 1.0}
+    r = solve_collision(K) if K > 0 else HERTZ
     h = aligned_time_step(r["tau_f"] if clipped else r["tau_0"], HERTZ_TAU, factor)
     end = r["tau_f"] + 0.8 * K if clipped else r["tau_0"]
     steps = int(20 + 1.25 * end / h + 30)
@@ -42,16 +46,10 @@ def map_run(K, factor, clipped=False, start_phase=START_PHASE, position_scale=0.
 
 def errors(K, factors, clipped=False):
     """{quantity: relative errors at each rung}, and the rungs' h = dt / T_e."""
-    ref = solve_collision(K) if K > 0 else solve_collision(1e-12)
+    ref = solve_collision(K) if K > 0 else HERTZ
     runs = [map_run(K, f, clipped) for f in factors]
     h = np.array([r[1] / HERTZ_TAU for r in runs])
-    out = {q: np.array([getattr(m, attr) for m, _, _ in runs]) / (ref[key] if K > 0 or key != "x_max" else 1.0) - 1
-           for q, (attr, key) in KEYS.items()}
-    if K == 0:
-        out = {q: np.array([getattr(m, attr) for m, _, _ in runs]) / {"tau_0": HERTZ_TAU, "tau_f": HERTZ_TAU,
-                                                                       "x_max": 1.0, "eps_x0": 1.0, "eps_F0": 1.0}[key] - 1
-               for q, (attr, key) in KEYS.items()}
-    return out, h
+    return {q: np.array([getattr(m, attr) for m, _, _ in runs]) / ref[key] - 1 for q, (attr, key) in KEYS.items()}, h
 
 
 def orders(h, y, eliminated):
@@ -220,7 +218,7 @@ def test_the_maps_own_record_in_physical_units_is_on_the_map(law, K):
 
     delta_e, V = 2e-6, 0.5
     clipped = law == "viscoelastic_clipped"
-    r = solve_collision(K) if K > 0 else {"tau_0": HERTZ_TAU, "tau_f": HERTZ_TAU}
+    r = solve_collision(K) if K > 0 else HERTZ
     h = aligned_time_step(r["tau_f"] if clipped else r["tau_0"], HERTZ_TAU, 700)
     d = replay(K, h, int(20 + 1.25 * (r["tau_f"] + 0.8 * K if clipped else r["tau_0"]) / h + 30), clipped=clipped)
     t, x, v, f = d[:, 0] * delta_e / V, d[:, 1] * delta_e, d[:, 2] * V, d[:, 3] * 3.0  # any force unit
