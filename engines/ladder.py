@@ -126,6 +126,19 @@ def richardson_weights(h, powers) -> np.ndarray:
     return np.linalg.pinv(A)[0]
 
 
+def ladder_roundoff(h, floors, powers) -> float:
+    """The round-off a ladder's extrapolated value may carry, relative:
+
+        sqrt(sum_k (w_k floor_k)^2),
+
+    w the Richardson weights of the rungs' step sizes `h` eliminating the first len(h) - 1 of
+    `powers`, floor_k each rung's own round-off (`RunSpec.roundoff_floor`; independent errors,
+    propagated)."""
+    h = np.asarray(h, dtype=float)
+    w = richardson_weights(h, tuple(powers[: len(h) - 1]))
+    return float(np.sqrt(np.sum((w * np.asarray(floors, dtype=float)) ** 2)))
+
+
 @dataclass(frozen=True)
 class Extrapolation:
     """A quantity extrapolated to dt -> 0 over a ladder.

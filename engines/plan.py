@@ -45,7 +45,8 @@ from postprocess.verdict_files import file_sha256
 from reference import solve_collision, solve_collisions
 
 from .codes import law_unavailable
-from .ladder import powers_of, richardson_weights, rung_factor
+from .ladder import ladder_roundoff as roundoff_of_ladder
+from .ladder import powers_of, rung_factor
 from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, GATED_LAWS, LAWS, RunSpec
 
 #: The largest round-off of positions a ladder of runs may carry into its extrapolated errors
@@ -84,12 +85,10 @@ def rungs_of(spec: RunSpec, ladder: dict | None = None) -> list[RunSpec]:
 
 
 def ladder_roundoff(rungs: list[RunSpec]) -> float:
-    """The round-off of positions that a ladder's extrapolated errors may carry, relative:
-    sqrt(sum_k (w_k floor_k)^2), w the ladder's Richardson weights and floor_k each rung's
-    `RunSpec.roundoff_floor` (independent errors, propagated; see ROUNDOFF_LIMIT)."""
-    h = [r.time_step / r.scales["T_e"] for r in rungs]
-    w = richardson_weights(h, powers_of(rungs[0].pair.eta)[: len(rungs) - 1])
-    return math.sqrt(sum((wk * r.roundoff_floor()) ** 2 for wk, r in zip(w, rungs)))
+    """The round-off of positions that a ladder of runs may carry into its extrapolated errors,
+    relative (`engines.ladder.ladder_roundoff` of the rungs' steps and floors; see ROUNDOFF_LIMIT)."""
+    return roundoff_of_ladder([r.time_step / r.scales["T_e"] for r in rungs], [r.roundoff_floor() for r in rungs],
+                              powers_of(rungs[0].pair.eta))
 
 
 def _velocities(case: Case, pair, K_grid) -> list[tuple[float, str, str, float | None]]:

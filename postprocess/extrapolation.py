@@ -33,8 +33,8 @@ import math
 import numpy as np
 import pandas as pd
 
-from engines.ladder import (PHASE_TOLERANCE, RESOLUTION_FLOOR, START_PHASE, extrapolate, phase_offset, powers_of,
-                            richardson_weights)
+from engines.ladder import (PHASE_TOLERANCE, RESOLUTION_FLOOR, START_PHASE, extrapolate, ladder_roundoff,
+                            phase_offset, powers_of)
 
 from .comparison import measured
 
@@ -72,9 +72,8 @@ def _limit_row(g: pd.DataFrame) -> dict:
     # The expansion depends on whether the contact dissipates (K > 0), not on the law's name: an
     # elastic contact written as 'viscoelastic' with eta = 0 converges as dt^2 too.
     powers = powers_of(0.0 if finest.law == "elastic" or float(finest.K) == 0 else 1.0)
-    w = richardson_weights(h, powers[: len(h) - 1])
     floors = g.roundoff_floor.to_numpy(dtype=float)
-    roundoff = float(np.sqrt(np.sum((w * floors) ** 2))) if np.isfinite(floors).all() else math.nan
+    roundoff = ladder_roundoff(h, floors, powers) if np.isfinite(floors).all() else math.nan
     offsets = [phase_offset(p, START_PHASE) for p in g.start_phase.to_numpy(dtype=float)]
     worst_offset = max(offsets, key=abs)
     row = {c: finest[c] for c in _DESCRIPTION if c in g.columns}
