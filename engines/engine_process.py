@@ -10,7 +10,9 @@ disk when it is killed. So every engine process
   PYTHONUNBUFFERED=1), so that lines land as they are printed, not when a 4 KiB buffer fills;
 - runs in a session of its own, and the whole process group is killed when it times out, and
   after it exits (MPI helpers, a `shell` command's children or a wrapper's engine must not linger);
-  so is every other process of its session: mpirun puts each rank in a process group of its own.
+  so is every other process of its session: mpirun puts each rank in a process group of its own;
+- sees none of the variables of a SLURM job step or of a PMI server (`engine_environment`);
+- keeps Open MPI's session directory in a folder of its own (`OMPI_SESSION_VARIABLE`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import os
 import shutil
 import signal
 import subprocess
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,6 +37,36 @@ SAFETY_FACTOR = 10.0
 KILL_GRACE_S = 3.0
 #: Last log lines quoted in the error of a timed-out or crashed engine.
 TAIL_LINES = 10
+
+
+#: Prefixes of the environment variables an engine process does not see: a SLURM job step's
+#: (SLURM_*) and a process manager's (PMI_*, PMIX_*). Debian's liggghts, lmp and esysparticle are
+#: linked against Open MPI 4.1, which takes SLURM_STEP_ID as "this process was launched by srun as
+#: one rank of an MPI job": it skips its singleton start-up and asks srun's PMI server for its rank.
+#: A step started without one (MpiDefault=none, SLURM's default, under the Snakemake plugin's
+#: `srun -n1`) has none, and the engine aborts before MPI_Init completes ("OPAL ERROR: Unreachable
+#: in file ext3x_client.c", "Local abort before MPI_INIT completed"). Every engine process is one
+#: process of its job whatever the cluster's MPI set-up, and ESyS starts its own mpirun; so none
+#: of these variables is theirs to read.
+HIDDEN_ENV_PREFIXES = ("SLURM_", "PMI_", "PMIX_")
+
+
+#: Open MPI 4.1 (Debian's liggghts, lmp and esysparticle) keeps each process's session directory
+#: in one tree per user and host, /tmp/ompi.<host>.<uid>. Processes that start together race on
+#: it: one's clean-up removes the tree while another creates its directory there, and that one
+#: aborts before MPI_Init completes ("orte_session_dir failed ... Local abort before MPI_INIT
+#: completed"). Measured on this project's 2-core VM: 3 of 400 version queries of five builds,
+#: six at a time, failed so; none of 1 250 with a tree of each process's own. It broke the
+#: workflow's start at random (every start asks all builds for their version at once), on a
+#: SLURM cluster more often, where every job starts its own Snakemake. So every engine process
+#: gets a fresh folder for this tree, removed when it ends.
+OMPI_SESSION_VARIABLE = "OMPI_MCA_orte_tmpdir_base"
+
+
+def engine_environment(extra: dict | None = None) -> dict:
+    """This process's environment without the HIDDEN_ENV_PREFIXES variables, updated by `extra`."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(HIDDEN_ENV_PREFIXES)}
+    return {**env, **(extra or {})}
 
 
 def time_limit(engine: str, specs, floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> float:
@@ -104,27 +137,29 @@ def run_logged(cmd: list[str], log: Path, timeout_s: float, cwd=None, env: dict 
 
     If it has not exited after `timeout_s`, its process group gets SIGTERM, then its group and
     session SIGKILL after KILL_GRACE_S; they are SIGKILLed after a normal exit too, so that
-    nothing it started survives. Returns how it ended."""
+    nothing it started survives. It runs in `engine_environment(env)`, with an Open MPI session
+    folder of its own (OMPI_SESSION_VARIABLE). Returns how it ended."""
     started = time.perf_counter()
-    with open(log, mode) as out:
+    with tempfile.TemporaryDirectory(prefix="ompi-session-") as session_dir, open(log, mode) as out:
         proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=subprocess.STDOUT, stdin=stdin,
-                                env=None if env is None else {**os.environ, **env}, start_new_session=True)
-    pgid = proc.pid  # start_new_session: the child leads its own group
-    try:
-        returncode = proc.wait(timeout=timeout_s)
-    except subprocess.TimeoutExpired:
-        returncode = None
-        kill_group(pgid, signal.SIGTERM)
+                                env=engine_environment({OMPI_SESSION_VARIABLE: session_dir, **(env or {})}),
+                                start_new_session=True)
+        pgid = proc.pid  # start_new_session: the child leads its own group
         try:
-            proc.wait(timeout=KILL_GRACE_S)
+            returncode = proc.wait(timeout=timeout_s)
         except subprocess.TimeoutExpired:
-            pass
-    except BaseException:  # e.g. KeyboardInterrupt: do not leave the engine running
+            returncode = None
+            kill_group(pgid, signal.SIGTERM)
+            try:
+                proc.wait(timeout=KILL_GRACE_S)
+            except subprocess.TimeoutExpired:
+                pass
+        except BaseException:  # e.g. KeyboardInterrupt: do not leave the engine running
+            kill_all(pgid)
+            proc.wait()
+            raise
         kill_all(pgid)
         proc.wait()
-        raise
-    kill_all(pgid)
-    proc.wait()
     return Finished(returncode, time.perf_counter() - started)
 
 
