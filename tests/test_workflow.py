@@ -1,5 +1,6 @@
 """The Snakemake workflow: its DAG, its refusal of bad cases and settings before any engine
-starts, a real one-case run, reruns only of what changed, and the SLURM profile (dry run)."""
+starts, a real one-case run, reruns only of what changed, and the SLURM profile (dry run; the
+cluster itself in test_slurm)."""
 
 import re
 import shutil
@@ -14,6 +15,7 @@ from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+SLURM_SNAKEMAKE = ROOT / ".venv-slurm" / "bin" / "snakemake"  # the SLURM executor plugin's venv (make slurm-venv)
 
 
 def snakemake(*args, cwd=ROOT):
@@ -54,10 +56,19 @@ def test_bad_config_is_refused_naming_the_key(project):
     assert out.returncode != 0 and "time_step_factor" in out.stdout + out.stderr
 
 
-def test_slurm_profile_dry_run():
-    out = snakemake("-n", "--profile", "profiles/slurm", "all", "--forceall")
+def test_slurm_profile_dry_run_gives_every_engine_job_its_limits():
+    if not SLURM_SNAKEMAKE.exists():
+        pytest.skip("Snakemake's SLURM executor plugin is not installed; install it with: make slurm-venv")
+    out = subprocess.run([str(SLURM_SNAKEMAKE), "-n", "--profile", "profiles/slurm", "all", "--forceall"], cwd=ROOT,
+                         capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr
-    assert "run_engine" in out.stdout
+    jobs = re.split(r"\n(?=\[.*\]\n(?:local)?rule )", out.stdout)
+    engine_jobs = [j for j in jobs if "\nrule run_engine:" in j]
+    assert len(engine_jobs) == 6 * len(list((ROOT / "cases").glob("*.yaml")))
+    # (their CPUs, ESyS's two, are evaluated only when a job is submitted: test_slurm checks them in sacct)
+    for job in engine_jobs:
+        assert re.search(r"resources: .*mem_mb=2000,.*runtime=30", job), job
+    # (which jobs stay local shows only when they run: test_slurm asks sacct which jobs SLURM ran)
 
 
 def test_one_case_for_real_then_only_changes_rerun(project):

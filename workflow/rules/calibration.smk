@@ -36,6 +36,7 @@ rule calibration_fit:
         png="results/calibration/{cal_case}/fit.png",
     log: "logs/calibration/{cal_case}/fit.log"
     params: modulus_factors=CALIBRATION["modulus_factors"]
+    resources: **cluster_resources()
     script: "../scripts/calibration_fit.py"
 
 
@@ -54,7 +55,7 @@ rule calibration_dem:
     threads: lambda w: CODES[calibration_build().code].processes  # as run_engine (ESyS: two MPI ranks)
     # run_engine's rule, with the engine's start alone: its runs follow from the fit, not known yet
     priority: lambda w: engine_job_priority(calibration_build().code, 0, 0)
-    resources: runtime=30, mem_mb=2000
+    resources: **cluster_resources(runtime=30, mem_mb=2000)
     script: "../scripts/calibration_dem.py"
 
 
@@ -70,6 +71,7 @@ rule calibration_loop:
         csv="results/calibration/{cal_case}/loop.csv",
         png="results/calibration/{cal_case}/fit_with_dem.png",
     log: "logs/calibration/{cal_case}/loop.log"
+    resources: **cluster_resources()
     script: "../scripts/calibration_loop.py"
 
 
@@ -80,6 +82,7 @@ rule closed_forms:
         bias="results/calibration/closed_form_bias.csv",
     log: "logs/calibration/closed_forms.log"
     params: settings=CALIBRATION["closed_forms"]
+    resources: **cluster_resources()
     script: "../scripts/closed_forms.py"
 
 

@@ -36,7 +36,7 @@ rule convergence_runs:
             reference=lambda w: references_of(convergence_plan_of(BUILDS[w.build].code))
     threads: lambda w: CODES[BUILDS[w.build].code].processes  # as run_engine: ESyS runs two MPI ranks
     priority: lambda w: convergence_priority_of(BUILDS[w.build].code)
-    resources: runtime=30, mem_mb=2000
+    resources: **cluster_resources(runtime=30, mem_mb=2000)
     script: "../scripts/convergence_runs.py"
 
 

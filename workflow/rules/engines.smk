@@ -64,7 +64,7 @@ rule run_engine:
     params: settings=SETTINGS, build=lambda w: build_params(w.build), listing=lambda w: PLANS[w.case]
     threads: lambda w: CODES[BUILDS[w.build].code].processes  # ESyS: two MPI ranks
     priority: engine_priority
-    resources: runtime=30, mem_mb=2000
+    resources: **cluster_resources(runtime=30, mem_mb=2000)
     script: "../scripts/run_engine.py"
 
 
@@ -77,5 +77,5 @@ rule case_summary:
     output: "results/{case}/summary.csv"
     log: "logs/{case}/summary.log"
     priority: CRITICAL_PATH
-    resources: runtime=10, mem_mb=2000
+    resources: **cluster_resources(runtime=10, mem_mb=2000)
     script: "../scripts/case_summary.py"

@@ -18,6 +18,7 @@ rule paper_reference:
             figure_5="results/paper/fig5_fracture.png", figure_5_csv="results/paper/fig5_fracture.csv"
     log: "logs/paper/reference.log"
     params: P0=config["paper"]["fracture"]["P0"]
+    resources: **cluster_resources()
     script: "../scripts/paper_reference.py"
 
 
@@ -52,6 +53,7 @@ rule paper_energy_runs:
     threads: CODES[BUILDS[BUILD_IDS[0]].code].processes  # as run_engine (ESyS: two MPI ranks)
     # run_engine's rule: a first build of several processes (ESyS) runs them while both cores are free
     priority: lambda w: sweep_priority(BUILDS[BUILD_IDS[0]].code, energy_plan())
+    resources: **cluster_resources()
     script: "../scripts/paper_energy_runs.py"
 
 

@@ -14,6 +14,7 @@ rule lammps_regression_runs:
             manifest="results/lammps/{lammps_build}/manifest.json"
     log: "logs/lammps_regressions/{lammps_build}.log"
     params: build=lambda w: build_params(w.lammps_build), timeout_floor_s=config["engine_timeout_floor_s"]
+    resources: **cluster_resources()
     script: "../scripts/lammps_regression_runs.py"
 
 

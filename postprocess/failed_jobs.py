@@ -1,0 +1,334 @@
+"""The jobs a workflow run lost, and the FAIL they force on the study's verdict.
+
+A job can end without a verdict of its own: SLURM kills an engine job at its time or memory
+limit, a user cancels it (`scancel`), a node fails, a script crashes. Snakemake then removes the
+job's outputs, the gate never runs, and no check names what happened; a CI reading the JUnit XML
+of an earlier run would even read its PASS. So the Snakefile's `onerror` hands Snakemake's log to
+`record_failed_jobs`, which
+
+- reads the failed jobs from it (its "Error in rule ..." blocks, less those a retry finished),
+- asks SLURM (`sacct`) for each cluster job's state, time limit, memory and peak use,
+- writes the verdict FAIL naming every lost job and why into verdict.json, junit.xml and
+  report.md / report.html, merged with what this run's report wrote before the failure, and
+- withdraws gate.txt (the PASS of a run that did not finish).
+
+The rules whose failure *is* a verdict (the gates: they exit non-zero on FAIL, after writing it)
+are not lost jobs and are left out.
+
+Standard library only: the Snakefile imports it.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .verdict_files import write_atomically
+
+#: The JUnit test suite the study's gate writes (postprocess.gate.junit_xml).
+SUITE = "hertz-dem-gate"
+#: How long `sacct` may take for one job before its account is left out [s].
+SACCT_TIMEOUT_S = 30
+#: Lines of a local job's log quoted with its failure.
+LOG_LINES = 8
+
+_ERROR = re.compile(r"^Error in rule (?P<rule>\S+):$")
+_FIELD = re.compile(r"^ {4}(?P<key>[a-z_-]+): (?P<value>.*)$")
+_FINISHED = re.compile(r"^Finished jobid: (?P<jobid>\d+)\b")
+_SLURM_FIELDS = ("JobID", "State", "ExitCode", "Elapsed", "Timelimit", "ReqMem", "MaxRSS", "Reason")
+
+
+@dataclass
+class FailedJob:
+    """A job Snakemake reported failed: its rule, Snakemake's job id, the outputs it did not
+    make, its logs (the rule's, then the cluster's), the executor's message and, for a cluster
+    job, SLURM's job id."""
+
+    rule: str
+    jobid: str
+    outputs: list[str] = field(default_factory=list)
+    logs: list[str] = field(default_factory=list)
+    message: str = ""
+    external_jobid: str | None = None
+
+
+def parse_failed_jobs(log_text: str) -> list[FailedJob]:
+    """The jobs of a Snakemake log that failed and were not finished by a retry, in the order of
+    their last failure. A job is keyed by Snakemake's job id, which a retry keeps."""
+    failed: dict[str, FailedJob] = {}
+    lines = log_text.splitlines()
+    i = 0
+    while i < len(lines):
+        finished = _FINISHED.match(lines[i])
+        if finished:
+            failed.pop(finished["jobid"], None)
+        error = _ERROR.match(lines[i])
+        if not error:
+            i += 1
+            continue
+        fields = {}
+        i += 1
+        while i < len(lines) and (m := _FIELD.match(lines[i])):
+            fields[m["key"]] = m["value"]
+            i += 1
+        if "jobid" not in fields:
+            continue
+        logs = re.sub(r" \(check log file\(s\) for error details\)$", "", fields.get("log", ""))
+        job = FailedJob(rule=error["rule"], jobid=fields["jobid"], outputs=_split(fields.get("output", "")),
+                        logs=_split(logs), message=_message(fields.get("message", "")),
+                        external_jobid=fields.get("external_jobid"))
+        failed.pop(job.jobid, None)
+        failed[job.jobid] = job
+    return list(failed.values())
+
+
+def _message(value: str) -> str:
+    value = value.strip()
+    return "" if value == "None" else value  # a local job's error has no message: Snakemake prints None
+
+
+def _split(value: str) -> list[str]:
+    return [v for v in value.split(", ") if v]
+
+
+#: A wildcard in an output pattern: {name}, or {name,regex} once constraints are applied.
+_WILDCARD = re.compile(r"\{\s*(\w+)\s*(?:,\s*((?:[^{}]|\{[^{}]*\})*))?\}")
+
+
+def _pattern_regex(pattern: str) -> str:
+    parts, pos, seen = [], 0, set()
+    for m in _WILDCARD.finditer(pattern):
+        parts.append(re.escape(pattern[pos:m.start()]))
+        name = m[1]
+        parts.append(f"(?P={name})" if name in seen else f"(?P<{name}>{m[2] or '[^/]+'})")
+        seen.add(name)
+        pos = m.end()
+    return "".join(parts) + re.escape(pattern[pos:])
+
+
+def wildcards_of(patterns, outputs) -> dict[str, str]:
+    """The wildcards of a job, read from its first output that matches one of its rule's output
+    `patterns` ('results/{case}/{build}/manifest.json' and 'results/steel/esys-2.3.5/manifest.json'
+    give {'case': 'steel', 'build': 'esys-2.3.5'}; a constrained '{case,steel|glass}' too); empty
+    when none matches."""
+    for pattern in patterns:
+        regex = _pattern_regex(str(pattern))
+        for path in outputs:
+            m = re.fullmatch(regex, path)
+            if m:
+                return m.groupdict()
+    return {}
+
+
+def describe(job: FailedJob, wildcards: dict[str, str]) -> str:
+    """'run_engine (case steel, build esys-2.3.5)', or the rule and its first output."""
+    if wildcards:
+        return f"{job.rule} ({', '.join(f'{k} {v}' for k, v in wildcards.items())})"
+    return f"{job.rule} ({job.outputs[0]})" if job.outputs else job.rule
+
+
+def slurm_account(jobid: str, sacct: str | None = None) -> list[dict[str, str]]:
+    """SLURM's account of a job (`sacct -j jobid`): one dict of _SLURM_FIELDS for the allocation,
+    then one per step; empty when sacct is missing, fails or knows no such job."""
+    sacct = sacct or shutil.which("sacct")
+    if not sacct:
+        return []
+    try:
+        out = subprocess.run([sacct, "-j", str(jobid), "-n", "-P", "-o", ",".join(_SLURM_FIELDS)],
+                             capture_output=True, text=True, timeout=SACCT_TIMEOUT_S)
+    except (OSError, subprocess.TimeoutExpired):
+        return []
+    if out.returncode != 0:
+        return []
+    return [dict(zip(_SLURM_FIELDS, line.split("|"))) for line in out.stdout.splitlines() if line.count("|") >= 7]
+
+
+def slurm_reason(rows: list[dict[str, str]], cluster_log=None) -> str:
+    """What SLURM did to a job, from `slurm_account`'s rows (allocation first) and the job's
+    SLURM log: 'SLURM job 61: TIMEOUT after 00:01:31, killed at its time limit 00:01:00', '...:
+    FAILED after 00:00:04, killed for its memory: a step peaked at 2.9G, over the 1500M it
+    requested', 'CANCELLED by 0 ...', with the first line SLURM wrote about it in `cluster_log`."""
+    job = rows[0]
+    state = job["State"]
+    text = f"SLURM job {job['JobID']}: {state}" + (f" after {job['Elapsed']}" if job.get("Elapsed") else "")
+    peak = max((r["MaxRSS"] for r in rows[1:] if r.get("MaxRSS")), key=_bytes, default="")
+    if state == "TIMEOUT":
+        text += f", killed at its time limit {job.get('Timelimit', '')}".rstrip()
+    elif peak and job.get("ReqMem") and _bytes(peak) > _bytes(job["ReqMem"]):
+        text += f", killed for its memory: a step peaked at {_human(peak)}, over the {job['ReqMem']} it requested"
+    elif state.startswith("CANCELLED"):
+        text += " (scancel, or SLURM on a user's or an administrator's request)"
+    elif state == "NODE_FAIL":
+        text += ": its node failed"
+    if job.get("Reason") and job["Reason"] != "None":
+        text += f"; reason: {job['Reason']}"
+    exit_code = job.get("ExitCode", "")
+    if exit_code and exit_code != "0:0":
+        text += f"; exit code {exit_code} (status:signal)"
+    said = _slurm_said(cluster_log)
+    return f"{text}; SLURM: {said!r}" if said else text
+
+
+#: What slurmstepd writes into a job's output when it stops it (time limit, memory, scancel).
+_SLURM_SAYS = re.compile(r"slurmstepd.*(?:CANCELLED AT|DUE TO|exceeded memory limit|error:).*")
+
+
+def _slurm_said(cluster_log) -> str:
+    try:
+        text = Path(cluster_log).read_text(errors="replace") if cluster_log else ""
+    except OSError:
+        return ""
+    m = _SLURM_SAYS.search(text)
+    return m.group(0).strip() if m else ""
+
+
+def _human(size: str) -> str:
+    """'599664K' -> '586M' (binary units, as sacct's)."""
+    value = _bytes(size)
+    for unit in "KMGT":
+        value /= 1024
+        if value < 1024:
+            return f"{value:.3g}{unit}"
+    return size
+
+
+def _bytes(size: str) -> float:
+    """'1536K' -> 1572864.0 (sacct's MaxRSS)."""
+    m = re.fullmatch(r"([\d.]+)([KMGTP]?)", size.strip())
+    if not m:
+        return 0.0
+    return float(m[1]) * 1024 ** " KMGTP".index(m[2] or " ")
+
+
+def log_tail(path, n: int = LOG_LINES) -> list[str]:
+    try:
+        lines = Path(path).read_text(errors="replace").splitlines()
+    except OSError:
+        return []
+    return [line.rstrip() for line in lines if line.strip()][-n:]
+
+
+#: The line a Python traceback ends with ('postprocess.dump_file.DumpError: ...').
+_EXCEPTION = re.compile(r"^(?:[\w.]+\.)?(\w*(?:Error|Exception|Exit|Interrupt))(?:: (.*))?$")
+
+
+def _error_line(logs) -> str:
+    """The last exception a job's logs name ('DumpError: ... the dump changed ...'); '' if none."""
+    for path in logs:
+        for line in reversed(log_tail(path, 200)):
+            m = _EXCEPTION.match(line.strip())
+            if m:
+                return f"{m[1]}: {m[2]}" if m[2] else m[1]
+    return ""
+
+
+def job_failure(job: FailedJob, wildcards: dict[str, str], sacct: str | None = None) -> dict:
+    """One lost job as the verdict records it: what it was, why it failed, where its logs are."""
+    reason = job.message or _error_line(job.logs) or "its job failed (see its log)"
+    if job.external_jobid:
+        rows = slurm_account(job.external_jobid, sacct)
+        if rows:
+            reason = slurm_reason(rows, next((p for p in job.logs if p.endswith(f"/{job.external_jobid}.log")), None))
+    # The rule's own log says where the job was; a cluster job that died before its rule's log
+    # (e.g. in the workflow's start inside the job) left it in its SLURM log.
+    tail = next((t for t in map(log_tail, job.logs) if t), [])
+    return {"job": describe(job, wildcards), "rule": job.rule, "wildcards": wildcards, "reason": reason,
+            "slurm_job": job.external_jobid, "logs": job.logs, "log_tail": tail}
+
+
+def failure_markdown(failures: list[dict]) -> str:
+    lines = ["## The workflow did not finish: FAIL", "",
+             f"{len(failures)} job(s) failed, so no verdict covers their results; the gate did not judge "
+             "the study. Each failed job, why, and its logs:", ""]
+    for f in failures:
+        lines.append(f"- **{f['job']}**: {f['reason']}. Logs: {', '.join(f'`{p}`' for p in f['logs']) or 'none'}")
+        lines += [f"      {line}" for line in f["log_tail"]]
+    return "\n".join(lines) + "\n"
+
+
+def _merge_verdict(path: Path, failures: list[dict]) -> None:
+    try:
+        verdict = json.loads(path.read_text())
+    except (OSError, ValueError):
+        verdict = {"checked": 0, "failed": 0, "failures": [], "summary_sha256": None}
+    verdict.update(verdict="FAIL", **{"pass": False})
+    verdict["failures"] = [*verdict.get("failures", []), *(f"{f['job']} did not finish: {f['reason']}" for f in failures)]
+    verdict["failed_jobs"] = failures
+    write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+
+
+def _merge_junit(path: Path, failures: list[dict]) -> None:
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError):
+        root = ET.Element("testsuites", name=SUITE, tests="0", failures="0", errors="0", skipped="0")
+    suite = root.find("testsuite")
+    if suite is None:
+        suite = ET.SubElement(root, "testsuite", name=SUITE, tests="0", failures="0", errors="0", skipped="0")
+    for f in failures:
+        name = ", ".join(f"{k}={v}" for k, v in f["wildcards"].items()) or "job"
+        case = ET.SubElement(suite, "testcase", classname=f"workflow.{f['rule']}", name=name, time="0")
+        failure = ET.SubElement(case, "failure", message=f"{f['job']} did not finish: {f['reason']}", type="job")
+        failure.text = "\n".join([f"logs: {', '.join(f['logs'])}", *f["log_tail"]])
+    for element in (root, suite):
+        element.set("tests", str(int(element.get("tests", "0")) + len(failures)))
+        element.set("failures", str(int(element.get("failures", "0")) + len(failures)))
+    ET.indent(root)
+    write_atomically(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+
+
+def _merge_report(results: Path, section: str) -> None:
+    md, html = results / "report.md", results / "report.html"
+    try:
+        old = md.read_text()
+    except OSError:
+        old = ""
+    write_atomically(md, (f"# Hertz DEM comparison report\n\n{section}" if not old else
+                          re.sub(r"\A(# [^\n]*\n\n)?", lambda m: f"{m.group(0)}{section}\n", old, count=1)))
+    import html as html_lib
+
+    items = "".join(f"<li>{html_lib.escape(line[2:])}</li>" for line in section.splitlines() if line.startswith("- "))
+    block = (f"<section class='lost-jobs'><h2>The workflow did not finish: FAIL</h2><p>"
+             f"{html_lib.escape(section.splitlines()[2])}</p><ul>{items}</ul></section>")
+    try:
+        page = html.read_text()
+    except OSError:
+        page = ""
+    if "<body>" in page:
+        page = page.replace("<body>", f"<body>{block}", 1)
+    else:
+        page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
+                f"</head><body>{block}</body></html>")
+    write_atomically(html, page)
+
+
+def record_failed_jobs(log_path, results_dir="results", output_patterns: dict | None = None,
+                       verdict_rules=(), sacct: str | None = None) -> list[dict]:
+    """Read the failed jobs of the Snakemake log `log_path` (a path, or a list of them) and write the FAIL they force into
+    `results_dir` (see the module's docstring). `output_patterns` maps each rule to its output
+    patterns (to name a job by its wildcards); the jobs of `verdict_rules` are left out. Returns
+    the failures written (none: nothing written)."""
+    paths = [log_path] if isinstance(log_path, (str, Path)) else list(log_path or [])
+    text = ""
+    for path in paths:  # Snakemake 9 hands `onerror` a list: one file per log handler
+        try:
+            text += Path(path).read_text(errors="replace")
+        except OSError:
+            continue
+    jobs = [j for j in parse_failed_jobs(text) if j.rule not in set(verdict_rules)]
+    if not jobs:
+        return []
+    patterns = output_patterns or {}
+    failures = [job_failure(j, wildcards_of(patterns.get(j.rule, ()), j.outputs), sacct) for j in jobs]
+    results = Path(results_dir)
+    results.mkdir(parents=True, exist_ok=True)
+    (results / "gate.txt").unlink(missing_ok=True)
+    _merge_verdict(results / "verdict.json", failures)
+    _merge_junit(results / "junit.xml", failures)
+    _merge_report(results, failure_markdown(failures))
+    return failures
