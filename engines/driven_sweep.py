@@ -13,19 +13,16 @@ how the process ended, into a `Sweep`:
 
 from __future__ import annotations
 
-import hashlib
 import json
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from records.files import file_sha256
+
 from .engine_process import Finished, describe_exit, log_tail, stop_message
 from .errors import EngineRunFailed
 from .finish_run import Sweep, load_record, write_run_dump
-
-
-def file_hash(path: Path) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -125,7 +122,7 @@ def _dump(engine, spec, entry, st, raw, workdir, log, version, driver: Path) -> 
         raise EngineRunFailed(spec.name, f"{engine}: {st['error']}", log)
     data = load_record(spec, raw, log)
     meta = {"engine": engine, "engine_version": version, "deck": driver.name,
-            "deck_sha256": file_hash(driver), "engine_variables": {k: v for k, v in entry.items() if k != "out"}}
+            "deck_sha256": file_sha256(driver), "engine_variables": {k: v for k, v in entry.items() if k != "out"}}
     dump = write_run_dump(spec, data, workdir / f"{spec.name}.csv", log, meta)
     raw.unlink()
     return dump

@@ -1,5 +1,6 @@
-"""The files that carry a verdict (gate.txt, verdict.json, junit.xml, the report): written
-atomically, withdrawn before results change, tied to the summary they describe by its sha256.
+"""The files that carry a verdict (gate.txt, verdict.json, junit.xml, the report): withdrawn
+before results change. (They are written with `records.files.write_atomically` and tied to the
+summary they describe by its `records.files.file_sha256`.)
 
 Kept apart from `postprocess.gate` (which needs pandas) because every workflow rule imports it
 first, through workflow/scripts/common.py: standard library only.
@@ -7,26 +8,10 @@ first, through workflow/scripts/common.py: standard library only.
 
 from __future__ import annotations
 
-import hashlib
-import os
 from pathlib import Path
 
 #: The files that carry a verdict; any rule that changes results withdraws them first.
 VERDICT_FILES = ("gate.txt", "verdict.json", "junit.xml", "report.md", "report.html")
-
-
-def write_atomically(path, data: bytes | str) -> None:
-    """Write `path` so that it appears only complete (a temporary file, then os.replace)."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.part")
-    if isinstance(data, str):
-        data = data.encode()
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
-
-
-def file_sha256(path) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def withdraw_verdict(results_dir="results") -> list[str]:

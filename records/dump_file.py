@@ -22,10 +22,11 @@ from __future__ import annotations
 import io
 import json
 import math
-import os
 from pathlib import Path
 
 import numpy as np
+
+from .files import write_atomically
 
 FORMAT_VERSION = 1
 COLUMNS = ("time", "overlap", "normal_velocity", "normal_force")
@@ -53,9 +54,7 @@ def write_dump(path, meta: dict, data: np.ndarray) -> None:
     # The rows as np.savetxt(fmt="%.17g", delimiter=",") writes them, character for character,
     # in one formatting call instead of one per row (it was most of an engine job's own time).
     buf.write(("%.17g,%.17g,%.17g,%.17g\n" * len(data)) % tuple(data.ravel().tolist()))
-    tmp = path.with_name(path.name + ".part")
-    tmp.write_text(buf.getvalue())
-    os.replace(tmp, path)
+    write_atomically(path, buf.getvalue())
 
 
 def read_dump(path) -> tuple[dict, dict[str, np.ndarray]]:

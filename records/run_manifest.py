@@ -12,17 +12,13 @@ flowing into the summary.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 from pathlib import Path
 
 from .collision_metrics import CollisionMetrics, ExtractionError, collision_metrics
 from .dump_file import DumpError, read_dump
-
-
-def sha256_of(path) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+from .files import file_sha256, write_atomically
 
 
 def write_manifest(path, dumps, failed=(), **fields) -> dict:
@@ -35,11 +31,9 @@ def write_manifest(path, dumps, failed=(), **fields) -> dict:
         return os.path.relpath(Path(p).resolve(), here)
 
     content = {**fields,
-               "dumps": [{"path": rel(d), "sha256": sha256_of(d)} for d in dumps],
+               "dumps": [{"path": rel(d), "sha256": file_sha256(d)} for d in dumps],
                "failed": [{**f, "log": rel(f["log"])} if f.get("log") else dict(f) for f in failed]}
-    tmp = path.with_name(f".{path.name}.part")
-    tmp.write_text(json.dumps(content, indent=1) + "\n")
-    os.replace(tmp, path)
+    write_atomically(path, json.dumps(content, indent=1) + "\n")
     return content
 
 
@@ -61,7 +55,7 @@ def read_manifest(path) -> dict:
 def verified_dump(path, sha256: str):
     """read_dump(path) after checking that the file is the one the run wrote."""
     try:
-        found = sha256_of(path)
+        found = file_sha256(path)
     except OSError as err:
         raise DumpError(f"{path}: cannot read dump: {err.strerror}")
     if found != sha256:

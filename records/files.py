@@ -1,0 +1,21 @@
+"""The file helpers every layer above uses: a file's sha256, and a write that appears only whole."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+
+def file_sha256(path) -> str:
+    """The sha256 of a file's bytes, as hex."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def write_atomically(path, data: bytes | str) -> None:
+    """Write `path` so that a reader sees the old file or the whole new one, never a part: the
+    data go to a hidden temporary file beside it ('.<name>.part'), which then replaces it."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.part")
+    tmp.write_bytes(data.encode() if isinstance(data, str) else data)
+    os.replace(tmp, path)
