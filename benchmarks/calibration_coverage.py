@@ -15,6 +15,7 @@ import sys
 import time
 
 from calibration.fit import fit_restitution
+from contact_model import CRITERIA
 from calibration.synthetic import coverage, synthetic_sets
 
 
@@ -28,7 +29,7 @@ def main(n_sets: int = 1000) -> None:
         times.append(time.perf_counter() - t0)
     print(f"one 10-point fit with its 95 % interval (exact solver, x0): median {1e3 * statistics.median(times):.1f} ms "
           f"over {len(times)} sets ({fit.evaluations} model evaluations in the last)")
-    for criterion in ("x0", "F0"):
+    for criterion in CRITERIA:
         for sigma_given in (False, True):
             t0 = time.perf_counter()
             c = coverage(n_sets, seed=2024, sigma_given=sigma_given, criterion=criterion)

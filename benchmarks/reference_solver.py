@@ -2,7 +2,8 @@
 
 The earlier kernel (reference/_taylor.py at --baseline, default the commit before the speed work,
 with the generated reference/_coefficients.py of that revision where it has one) is copied out of
-git into a temporary folder and imported next to the current one, so that both are timed in the same process on the same, possibly
+git into a temporary folder and imported next to the current one, so that both are timed in the same \
+process on the same, possibly
 busy, machine. Printed, for the current (new) and the earlier (old) kernel and their ratio:
 
 - one K a call [ms]: solve_collision(K) through the public API, median over repeats of the mean

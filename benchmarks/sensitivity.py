@@ -31,9 +31,9 @@ from contact_model import load_case
 from engines.lammps import TANGENTIAL, run_lammps
 from engines.plan import plan_at_velocity, rungs_of
 from engines.script_engine import number
-from postprocess.collision_metrics import collision_metrics
+from records.collision_metrics import collision_metrics
 from postprocess.comparison import comparison_rows
-from postprocess.dump_file import read_dump
+from records.dump_file import read_dump
 from postprocess.extrapolation import extrapolated_rows
 from postprocess.gate import GATED_QUANTITIES, judge
 

@@ -6,7 +6,7 @@ interval; from the bodies of the case (E*, R*, M*) and the fitted eta follow
 - the K range the data cover, K_i = alpha (V_i / V_D)^{1/5};
 - xi = 1 - eps^2 at the highest speed (the model's, at the best fit);
 - V_c(1 %) and V_c(5 %) (`ContactPair.critical_velocity`, the critical K of the solver);
-- the parameters of every engine of the study (`ContactPair.engine_parameters`);
+- the parameters of every engine code that can run the viscoelastic law (`engines.codes.CODES`);
 - eta when E* is scaled by the given factors: at fixed V_D, eta = eta_0 (E*/E*_0)^{3/5}.
 
 Beside it, the paper's method: the same data fitted with the paper's second-order series
@@ -37,12 +37,15 @@ from scipy import optimize
 
 from contact_model import ContactPair
 from contact_model.case_file import Case
+from engines.codes import CODES
 from reference.restitution_closed_forms import paper_series
 
 from .fit import CRITERIA, K_MAX, Fit, exact_restitution, f_survival, falling_range, fit_restitution
 
 POISE = 0.1  # Pa s
-ENGINES = ("liggghts", "yade", "lammps")
+#: The codes whose parameters of the calibrated contact are reported: those that run the
+#: viscoelastic law (engines.codes; ESyS clips it, Kratos cannot express it).
+ENGINES = tuple(name for name, c in CODES.items() if "viscoelastic" not in c.unavailable)
 BETAS = (0.01, 0.05)
 
 
@@ -110,7 +113,7 @@ def _fit_summary(fit: Fit, pair: ContactPair, modulus_factors) -> dict:
     }
     if fit.model == "exact":
         out["V_c"] = {f"{b:g}": tuned.critical_velocity(b, fit.criterion) for b in BETAS}
-        out["engine_parameters"] = {e: tuned.engine_parameters(e) for e in ENGINES}
+        out["engine_parameters"] = {e: CODES[e].contact_parameters(tuned) for e in ENGINES}
         out["modulus_sensitivity"] = [
             {"factor": f, "E_Pa": f * pair.E, "eta_Pa_s": fit.viscosity(f * pair.E, pair.R, pair.M)[0],
              "eta_ratio": f**0.6} for f in modulus_factors]

@@ -46,11 +46,11 @@ import numpy as np
 from scipy import optimize, special
 from scipy.interpolate import CubicSpline
 
+from contact_model import CRITERIA
 from contact_model.measurement_file import MeasurementError
 from reference.closed_forms import K_PREFACTOR
 from reference.collision_ode import K_RANGE, solve_collisions
 
-CRITERIA = ("x0", "F0")
 #: Upper end of the fitted K: the reference solver's range.
 K_MAX = K_RANGE[1]
 LEVEL = 0.95

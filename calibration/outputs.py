@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from contact_model import CRITERIA  # noqa: E402
 from contact_model.case_file import Case  # noqa: E402
 
 from .case_calibration import POISE  # noqa: E402
@@ -37,7 +38,7 @@ def residual_table(case: Case, fits: dict[str, Fit]) -> pd.DataFrame:
 
 def engine_parameter_table(summary: dict) -> pd.DataFrame:
     rows = []
-    for criterion in ("x0", "F0"):
+    for criterion in CRITERIA:
         for engine, params in summary["fits"][criterion]["engine_parameters"].items():
             for name, value in params.items():
                 rows.append({"criterion": criterion, "engine": engine, "parameter": name, "value": value})
@@ -90,7 +91,7 @@ def write_fit(case: Case, summary: dict, fits: dict[str, Fit], out_dir) -> None:
 def loop_table(dumps, summary: dict, measured: pd.DataFrame | None = None) -> pd.DataFrame:
     """DEM eps at the measured velocities beside the fitted model's and the data (`measured`: the
     residual table, columns V and eps): `dumps` yields (path, metadata, columns, metrics) as
-    `postprocess.run_manifest.manifest_dumps` does."""
+    `records.run_manifest.manifest_dumps` does."""
     criterion_of_law = {law: c for c, law in LOOP_LAW.items()}
     rows = []
     for path, meta, _, metrics in dumps:
@@ -99,7 +100,8 @@ def loop_table(dumps, summary: dict, measured: pd.DataFrame | None = None) -> pd
         fit = summary["fits"][criterion]
         K = fit["K_at_V_ref"] * (meta["impact_velocity"] / fit["V_ref"]) ** 0.2
         eps_model = float(exact_restitution(criterion)([K])[0])
-        row = {"criterion": criterion, "build": meta.get("build", meta["engine"]), "engine": meta["engine"], "V": meta["impact_velocity"], "K": K,
+        row = {"criterion": criterion, "build": meta.get("build", meta["engine"]), "engine": meta["engine"],
+               "V": meta["impact_velocity"], "K": K,
                "eps_dem": eps_dem, "eps_fit": eps_model, "dem_minus_fit": eps_dem - eps_model, "dump": Path(path).name}
         if measured is not None:
             at = measured[np.isclose(measured.V, row["V"], rtol=1e-12)]
@@ -122,10 +124,14 @@ def case_section(summary: dict, residuals: pd.DataFrame, loop: pd.DataFrame | No
     s, fx, ff, fs = summary, summary["fits"]["x0"], summary["fits"]["F0"], summary["fits"]["series"]
     sig = "given per row" if fx["sigma_given"] else f"not given; estimated from the scatter, sigma = {fx['sigma']:.2g}"
     lines = [f"## {s['case']}", "",
-             f"Data: `{s['measurements']}` ({fx['n']} points, V = {s['velocity_range'][0]:g}–{s['velocity_range'][1]:g} m/s; "
-             f"uncertainty {sig}). Provenance: {s['provenance'].splitlines()[0] if s['provenance'] else '(none given)'}",
-             "", f"Bodies ({s['geometry']}): E* = {s['E_Pa']:.4g} Pa, R* = {s['R_m']:.6g} m, M* = {s['M_kg']:.6g} kg.", "",
-             "| fit | K(V_max) [95 %] | V_D [m/s] [95 %] | eta [P] [95 %] | K range | chi²_red / rms residual | xi at V_max | V_c(1 %) [m/s] | V_c(5 %) [m/s] |",
+             f"Data: `{s['measurements']}` ({fx['n']} points, "
+             f"V = {s['velocity_range'][0]:g}–{s['velocity_range'][1]:g} m/s; "
+             f"uncertainty {sig}). Provenance: "
+             f"{s['provenance'].splitlines()[0] if s['provenance'] else '(none given)'}",
+             "",
+             f"Bodies ({s['geometry']}): E* = {s['E_Pa']:.4g} Pa, R* = {s['R_m']:.6g} m, M* = {s['M_kg']:.6g} kg.", "",
+             "| fit | K(V_max) [95 %] | V_D [m/s] [95 %] | eta [P] [95 %] | K range | chi²_red / rms residual "
+             "| xi at V_max | V_c(1 %) [m/s] | V_c(5 %) [m/s] |",
              "|---|---|---|---|---|---|---|---|---|"]
     for name, f in (("exact, x0", fx), ("exact, F0", ff), ("paper's series (x0)", fs)):
         vc = f.get("V_c", {})
@@ -135,32 +141,40 @@ def case_section(summary: dict, residuals: pd.DataFrame, loop: pd.DataFrame | No
             f"| {f['eta_P']:.4g} [{f['eta_interval_P'][0]:.4g}, {f['eta_interval_P'][1]:.4g}] "
             f"| {f['K_range'][0]:.3f}–{f['K_range'][1]:.3f} | {f['chi2_red']:.3g} / {f['rms_residual']:.2g} "
             f"| {f['xi_at_V_max']:.3f} | {vc.get('0.01', float('nan')):.3g} | {vc.get('0.05', float('nan')):.3g} |")
-    lines += ["", "V_c(beta) is the speed below which phi_1, phi_2 stay under beta (`reference.critical`). Under F0 it is "
+    lines += ["",
+              "V_c(beta) is the speed below which phi_1, phi_2 stay under beta (`reference.critical`). Under F0 it is "
               "tiny: T_F0 = T_x0 − (4/5) K δ_e/V + … has a term linear in K, so phi reaches beta at small K; the "
-              "paper's V_c is the x0 one.", "", f"The paper's method (its second-order series) gives eta {100 * s['series_bias']:+.2f} % off the exact x0 fit "
+              "paper's V_c is the x0 one.", "",
+              f"The paper's method (its second-order series) gives eta {100 * s['series_bias']:+.2f} % off the exact "
+              "x0 fit "
               "on these data.", ""]
     cl, gf, tr, cv = s["constant_loss"], s["gugan_form"], s["residual_trend"], s["case_viscosity"]
     lines += ["**What the residuals say.** "
-              f"The x0 residuals run from {residuals.residual_x0.iloc[0]:+.4f} to {residuals.residual_x0.iloc[-1]:+.4f} "
+              f"The x0 residuals run from {residuals.residual_x0.iloc[0]:+.4f} "
+              f"to {residuals.residual_x0.iloc[-1]:+.4f} "
               f"in file order; a line through them against ln V has slope {tr['b']:.4f} ± {tr['b_se']:.4f} "
               f"(t = {tr['t_statistic']:.1f}, 0 if the model's velocity dependence were the data's). "
               f"Adding a velocity-independent loss, eps² = (1 − xi_0) eps_x0(K)², gives xi_0 = {cl['xi_0']:.3f} ± "
-              f"{cl['xi_0_se']:.3f} and cuts the rms residual from {fx['rms_residual']:.4f} to {cl['rms_residual']:.4f} "
+              f"{cl['xi_0_se']:.3f} and cuts the rms residual from {fx['rms_residual']:.4f} "
+              f"to {cl['rms_residual']:.4f} "
               f"(F = {cl['F']:.1f}, p = {cl['p_value']:.2g}). Gugan's own form 1 − e² = K0 + K1 U^0.4 fitted to the "
-              f"same rows gives K0 = {gf['a']:.3f} ± {gf['a_se']:.3f}, K1 = {gf['b']:.4f} ± {gf['b_se']:.4f} (s/m)^0.4. "
+              f"same rows gives K0 = {gf['a']:.3f} ± {gf['a_se']:.3f}, "
+              f"K1 = {gf['b']:.4f} ± {gf['b_se']:.4f} (s/m)^0.4. "
               "The viscoelastic model has no loss at vanishing speed (eps → 1 as V → 0).", ""]
     if cv["eta_P"] > 0:
         lines += [f"The case file's viscosity, {cv['eta_P']:.4g} P, would give eps = {min(cv['eps_x0']):.3f}–"
                   f"{max(cv['eps_x0']):.3f} (x0) at the measured velocities; the fitted eta is "
                   f"{cv['eta_ratio_fit_to_case']:.3f} times it.", ""]
     lines += ["eta when E* changes at fixed V_D (eta ∝ E*^{3/5}; the fit of eps(V) itself does not depend on E*):", "",
-              _md(pd.DataFrame([{"criterion": c, "E* factor": r["factor"], "E* [Pa]": r["E_Pa"], "eta [P]": r["eta_Pa_s"] / POISE}
-                                for c in ("x0", "F0") for r in s["fits"][c]["modulus_sensitivity"]])), "",
+              _md(pd.DataFrame([{"criterion": c, "E* factor": r["factor"], "E* [Pa]": r["E_Pa"],
+                                 "eta [P]": r["eta_Pa_s"] / POISE}
+                                for c in CRITERIA for r in s["fits"][c]["modulus_sensitivity"]])), "",
               "Engine parameters of the calibrated contact (SI; `engine_parameters.csv`):", "",
               _md(engine_parameter_table(s)), ""]
     if loop is not None and len(loop):
         worst = loop.dem_minus_fit.abs().max()
-        lines += [f"**Closing the loop.** The calibrated parameters run in {loop.build.iloc[0]} ({loop.engine.iloc[0]}) at every measured "
+        lines += [f"**Closing the loop.** The calibrated parameters run in {loop.build.iloc[0]} "
+                  f"({loop.engine.iloc[0]}) at every measured "
                   f"velocity ({LOOP_LAW['x0']} law for x0, {LOOP_LAW['F0']} for F0): the DEM eps differs from the "
                   f"fitted model's by at most {worst:.2g}.", "", _md(loop.drop(columns=["dump"])), ""]
     lines += [f"![fit]({folder}/fit.png)", ""]

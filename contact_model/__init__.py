@@ -2,7 +2,9 @@
 
 from .case_file import Case, CaseError, load_case, parse_case
 from .contact_pair import GEOMETRIES, Body, ContactPair
+from .laws import CRITERIA, GATED_LAWS, LAW_CRITERIA, LAWS
 from .effective import effective_mass, effective_modulus, effective_radius, sphere_mass
 
-__all__ = ["Case", "CaseError", "load_case", "parse_case", "GEOMETRIES", "Body", "ContactPair",
+__all__ = ["Case", "CaseError", "load_case", "parse_case", "CRITERIA", "GATED_LAWS", "GEOMETRIES", "LAW_CRITERIA",
+           "LAWS", "Body", "ContactPair",
            "effective_mass", "effective_modulus", "effective_radius", "sphere_mass"]

@@ -71,6 +71,7 @@ def rayleigh_time(R: float, density: float, young: float, poisson: float) -> flo
     (density [kg/m^3], Young's modulus Y [Pa], Poisson's ratio nu; Li, Xu & Thornton 2005, the form
     LIGGGHTS and EDEM use). Production DEM runs take dt = 10 % to 40 % of it."""
     if not (R > 0 and density > 0 and young > 0 and -1 < poisson < 0.5):
-        raise ValueError(f"rayleigh_time needs R, density, Y > 0 and -1 < nu < 0.5, got {R}, {density}, {young}, {poisson}")
+        raise ValueError("rayleigh_time needs R, density, Y > 0 and -1 < nu < 0.5, "
+                         f"got {R}, {density}, {young}, {poisson}")
     shear = young / (2.0 * (1.0 + poisson))
     return math.pi * R * math.sqrt(density / shear) / (0.1631 * poisson + 0.8766)

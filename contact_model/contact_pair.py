@@ -11,7 +11,6 @@ from dataclasses import dataclass
 
 from . import collision_scales as cs
 from .effective import effective_mass, effective_modulus, effective_radius, sphere_mass
-from .engine_parameters import ENGINE_PARAMETERS
 
 GEOMETRIES = ("sphere-sphere", "sphere-plane")
 
@@ -109,11 +108,3 @@ class ContactPair:
         from reference.critical import critical_dissipation
 
         return self.velocity_for_dissipation(critical_dissipation(beta, criterion))
-
-    def engine_parameters(self, engine: str) -> dict[str, float]:
-        """The engine's contact parameters for this pair (see `engine_parameters`)."""
-        try:
-            mapping = ENGINE_PARAMETERS[engine]
-        except KeyError:
-            raise ValueError(f"unknown engine {engine!r}; known: {sorted(ENGINE_PARAMETERS)}")
-        return mapping(self.E, self.R, self.M, self.eta)

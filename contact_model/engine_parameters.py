@@ -102,11 +102,3 @@ def esys_plane_as_sphere(R: float, ratio: float = ESYS_WALL_RADIUS_RATIO) -> dic
     R_star = 1.0 / (1.0 / R + 1.0 / R_wall)
     return {"R_wall": R_wall, "R_star_esys": R_star, "modulus_factor": math.sqrt(R / R_star)}
 
-
-ENGINE_PARAMETERS = {
-    "liggghts": liggghts_hertz_stiffness,
-    "yade": yade_viscoelastic_hertz,
-    "lammps": lammps_granular_hertz,
-    "esys": esys_hertzian_viscoelastic,
-    "kratos": kratos_hertz,
-}

@@ -45,7 +45,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .case_file import NUMBER, CaseError, quantity, read_utf8
+from .quantities import NUMBER, CaseError, quantity
+from .strict_yaml import read_utf8
 
 COLUMNS = ("velocity", "restitution", "rebound_velocity", "restitution_uncertainty",
            "rebound_velocity_uncertainty")

@@ -1,4 +1,4 @@
-"""Engine drivers: `RunSpec`s in, study dumps (postprocess.dump_file) out."""
+"""Engine drivers: `RunSpec`s in, study dumps (records.dump_file) out."""
 
 from pathlib import Path
 
@@ -6,7 +6,7 @@ from .codes import code
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .errors import EngineMissing, EngineRunFailed
 from .finish_run import Sweep
-from .run_spec import GATED_LAWS, LAWS, RunSpec
+from .run_spec import RunSpec
 
 
 def run_sweep(build, specs, workdir, timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> Sweep:
@@ -30,4 +30,4 @@ def run_sweep(build, specs, workdir, timeout_floor_s: float = DEFAULT_TIMEOUT_FL
     return runner(specs, workdir, timeout_floor_s=timeout_floor_s, **kw)
 
 
-__all__ = ["EngineMissing", "EngineRunFailed", "GATED_LAWS", "LAWS", "RunSpec", "Sweep", "run_sweep"]
+__all__ = ["EngineMissing", "EngineRunFailed", "RunSpec", "Sweep", "run_sweep"]

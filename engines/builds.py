@@ -55,7 +55,7 @@ def load_builds(config_list, project_dir) -> list[Build]:
     for entry in config_list:
         exe = str(entry["executable"])
         if os.sep in exe and not os.path.isabs(exe):
-            exe = str(Path(project_dir, exe))
+            exe = str(Path(project_dir, exe).absolute())
         build = Build(str(entry["id"]), str(entry["code"]), exe)
         if build.id in seen:
             raise BuildError(f"config 'builds': two builds have the id {build.id!r}; give each build its own id "

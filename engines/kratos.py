@@ -39,8 +39,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .codes import law_unavailable
-from .driven_sweep import collect_sweep, file_hash, prepare_sweep
+from .codes import code, law_unavailable
+from records.files import file_sha256
+
+from .driven_sweep import collect_sweep, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import require_executable
 from .finish_run import Sweep
@@ -54,7 +56,7 @@ ENVIRONMENT = {"OMP_NUM_THREADS": "1", "PYTHONUNBUFFERED": "1"}
 
 
 def driver_hash() -> str:
-    return file_hash(DRIVER)
+    return file_sha256(DRIVER)
 
 
 def job_entry(spec: RunSpec, out: Path) -> dict:
@@ -62,7 +64,7 @@ def job_entry(spec: RunSpec, out: Path) -> dict:
     if law_unavailable("kratos", spec.law):
         raise ValueError(f"kratos cannot run law {spec.law!r}: {law_unavailable('kratos', spec.law)}")
     p = spec.pair
-    params = p.engine_parameters("kratos")
+    params = code("kratos").contact_parameters(p)
     # 'elastic': restitution 1 -> DAMPING_GAMMA = 0. 'default': the restitution the user asks for
     # (Kratos turns it into gamma with Thornton et al.'s fit).
     restitution = 1.0 if spec.law == "elastic" else spec.matched_restitution

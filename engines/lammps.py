@@ -26,6 +26,7 @@ from pathlib import Path
 from contact_model import Body, ContactPair
 from contact_model.collision_scales import viscosity_for_dissipation
 
+from .codes import code
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .finish_run import Sweep
 from .run_spec import RunSpec
@@ -50,7 +51,7 @@ def model_words(spec: RunSpec) -> str:
         # hertz/material E e nu with tsuji damping: e is read as the restitution coefficient.
         # nu = 0 on both sides makes E* = E/2, and also sidesteps the wall's 1 - nu defect.
         return f"hertz/material {number(2.0 * p.E)} {number(spec.matched_restitution)} 0.0 damping tsuji {TANGENTIAL}"
-    params = p.engine_parameters("lammps")
+    params = code("lammps").contact_parameters(p)
     words = f"hertz {number(params['kn'])} {number(params['eta_n0'])} damping viscoelastic {TANGENTIAL}"
     return words + (" limit_damping" if spec.law == "viscoelastic_clipped" else "")
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .codes import code
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .run_spec import RunSpec
 from .script_engine import ScriptEngine, common_variables, number
@@ -37,7 +38,7 @@ def deck_variables(spec: RunSpec, out: Path, decks: Path) -> dict[str, str]:
         var["young"] = number(2.0 * p.E)  # poisson 0 on both: Y* = Y/2 = E*
         var["restitution"] = number(spec.matched_restitution)
     else:
-        params = p.engine_parameters("liggghts")
+        params = code("liggghts").contact_parameters(p)
         var["model_head"] = "model hertz/stiffness tangential no_history"
         var["kn"], var["gamman"] = number(params["kn"]), number(params["gamman"])
     return var

@@ -41,13 +41,15 @@ from dataclasses import dataclass, field, replace
 
 from contact_model.case_file import Case, CaseError
 from contact_model.contact_pair import Body, ContactPair
-from postprocess.verdict_files import file_sha256
+from records.files import file_sha256
 from reference import solve_collision, solve_collisions
 
 from .codes import law_unavailable
 from .ladder import ladder_roundoff as roundoff_of_ladder
 from .ladder import powers_of, rung_factor
-from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, GATED_LAWS, LAWS, RunSpec
+from contact_model import GATED_LAWS, LAWS
+
+from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, RunSpec
 
 #: The largest round-off of positions a ladder of runs may carry into its extrapolated errors
 #: (`ladder_roundoff`), relative: a fifth of the default tolerance (1e-6), so that round-off
@@ -323,7 +325,8 @@ def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunS
                        entry["time_step_factor"], matched_restitution=entry["matched_restitution"],
                        reference=entry["reference"], build=build)
         if spec.name != entry["name"]:
-            raise ValueError(f"{listing['file']}: the plan lists run {entry['name']!r} but the case gives {spec.name!r}; "
+            raise ValueError(f"{listing['file']}: the plan lists run {entry['name']!r} but the case gives "
+                             f"{spec.name!r}; "
                              "the plan is stale: rerun the study")
         runs.append(spec)
     return runs

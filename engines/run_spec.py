@@ -26,20 +26,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-from contact_model import ContactPair
+from contact_model import LAW_CRITERIA, LAWS, ContactPair
 from reference import HERTZ_TAU, solve_collision
 
 from .codes import CODES
 from .ladder import START_PHASE, aligned_time_step
 
-LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic", "default")
-#: The laws the study validates against tolerances (the model under test); 'default' is compared only.
-GATED_LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic")
-#: The end-of-collision criteria a run of each gated law stands for (`RunSpec.represents`; the
-#: default law's depends on the engine: `DEFAULT_LAW_CRITERION`).
-LAW_CRITERIA = {"viscoelastic": ("x0", "F0"),  # the tail is kept: one trajectory, both ends
-                "viscoelastic_clipped": ("F0",),
-                "elastic": ("x0",)}  # no tail: x0 and F0 coincide
+# The laws and criteria (LAWS, GATED_LAWS, LAW_CRITERIA) are the model's: contact_model.laws.
 ENGINES = tuple(CODES)
 #: The criterion each engine's default law stands for (engines.codes: whether it keeps the tail).
 DEFAULT_LAW_CRITERION = {name: c.default_criterion for name, c in CODES.items()}

@@ -10,7 +10,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .driven_sweep import collect_sweep, file_hash, prepare_sweep
+from records.files import file_sha256
+
+from .codes import code
+from .driven_sweep import collect_sweep, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import require_executable
 from .finish_run import Sweep
@@ -21,13 +24,13 @@ DRIVER = Path(__file__).resolve().parents[1] / "cases" / "decks" / "yade" / "col
 
 
 def driver_hash() -> str:
-    return file_hash(DRIVER)
+    return file_sha256(DRIVER)
 
 
 def job_entry(spec: RunSpec, out: Path) -> dict:
     """The numbers of one run for the YADE driver (SI)."""
     p = spec.pair
-    params = p.engine_parameters("yade")
+    params = code("yade").contact_parameters(p)
     entry = {"name": spec.name, "geometry": p.geometry, "law": spec.law, "out": str(out),
              **spec.initial_state(), "M": p.M, "young": params["young"], "c": params["c"]}
     if spec.law == "default":

@@ -35,7 +35,7 @@ from pathlib import Path
 import pandas as pd
 
 from .gate import GATED_QUANTITIES, GROUP, gate_checks, limit_rows, with_build
-from .verdict_files import write_atomically
+from records.files import write_atomically
 
 KEY = [*GROUP, "quantity"]
 DEFAULT_TOLERANCE = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
@@ -126,7 +126,8 @@ def compare_checks(baseline: pd.DataFrame, candidate: pd.DataFrame, factor: floa
                      "baseline_pass": r["baseline_pass"], "candidate_pass": r["candidate_pass"], "status": status,
                      "candidate_reason": r["candidate_reason"] if isinstance(r["candidate_reason"], str) else ""})
     order = {"regression": 0, "fix": 1, "new": 2, "removed": 3, "unchanged": 4}
-    out = pd.DataFrame(rows, columns=[*KEY, "baseline_error", "candidate_error", "change", "resolution", "baseline_pass",
+    out = pd.DataFrame(rows, columns=[*KEY, "baseline_error", "candidate_error", "change", "resolution",
+                                      "baseline_pass",
                                       "candidate_pass", "status", "candidate_reason"])
     return out.sort_values(by=KEY, key=None).sort_values(by="status", key=lambda s: s.map(order),
                                                           kind="stable").reset_index(drop=True)

@@ -16,7 +16,7 @@ import math
 
 from reference import HERTZ_TAU, paper_series_value, solve_collisions
 
-from .collision_metrics import CollisionMetrics
+from records.collision_metrics import CollisionMetrics
 
 QUANTITIES = ("T", "A", "eps", "Q1", "Q2")
 _SERIES_NAME = {"T": "T/T_e", "A": "A/A_e", "eps": "eps", "Q1": "Q1/Q1e", "Q2": "Q2/Q2e"}

@@ -28,7 +28,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .verdict_files import write_atomically
+from records.files import write_atomically
 
 #: The JUnit test suite the study's gate writes (postprocess.gate.junit_xml).
 SUITE = "hertz-dem-gate"
@@ -213,7 +213,7 @@ def log_tail(path, n: int = LOG_LINES) -> list[str]:
     return [line.rstrip() for line in lines if line.strip()][-n:]
 
 
-#: The line a Python traceback ends with ('postprocess.dump_file.DumpError: ...').
+#: The line a Python traceback ends with ('records.dump_file.DumpError: ...').
 _EXCEPTION = re.compile(r"^(?:[\w.]+\.)?(\w*(?:Error|Exception|Exit|Interrupt))(?:: (.*))?$")
 
 
@@ -257,7 +257,8 @@ def _merge_verdict(path: Path, failures: list[dict]) -> None:
     except (OSError, ValueError):
         verdict = {"checked": 0, "failed": 0, "failures": [], "summary_sha256": None}
     verdict.update(verdict="FAIL", **{"pass": False})
-    verdict["failures"] = [*verdict.get("failures", []), *(f"{f['job']} did not finish: {f['reason']}" for f in failures)]
+    verdict["failures"] = [*verdict.get("failures", []),
+                           *(f"{f['job']} did not finish: {f['reason']}" for f in failures)]
     verdict["failed_jobs"] = failures
     write_atomically(path, json.dumps(verdict, indent=1) + "\n")
 
@@ -309,8 +310,8 @@ def _merge_report(results: Path, section: str) -> None:
 
 def record_failed_jobs(log_path, results_dir="results", output_patterns: dict | None = None,
                        verdict_rules=(), sacct: str | None = None) -> list[dict]:
-    """Read the failed jobs of the Snakemake log `log_path` (a path, or a list of them) and write the FAIL they force into
-    `results_dir` (see the module's docstring). `output_patterns` maps each rule to its output
+    """Read the failed jobs of the Snakemake log `log_path` (a path, or a list of them) and write
+    the FAIL they force into `results_dir` (see the module's docstring). `output_patterns` maps each rule to its output
     patterns (to name a job by its wildcards); the jobs of `verdict_rules` are left out. Returns
     the failures written (none: nothing written)."""
     paths = [log_path] if isinstance(log_path, (str, Path)) else list(log_path or [])

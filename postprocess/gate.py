@@ -29,9 +29,9 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pandas as pd
 
-from engines.run_spec import GATED_LAWS
+from contact_model import GATED_LAWS
 
-from .verdict_files import write_atomically
+from records.files import write_atomically
 
 GATED_QUANTITIES = ("T", "A", "eps")
 GROUP = ["build", "law", "geometry", "criterion"]
@@ -164,8 +164,10 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
                            at_K=float(worst.K),
                            case=str(worst.case), at_run=str(worst.ladder),
                            observed_order=float(worst.get(f"order_{q}", math.nan)),
-                           rung_factors=str(worst.get("rung_factors", "")) if pd.notna(worst.get("rung_factors", "")) else "",
-                           rung_errors=str(worst.get(f"rungs_{q}", "")) if pd.notna(worst.get(f"rungs_{q}", "")) else "")
+                           rung_factors=(str(worst.get("rung_factors", ""))
+                                         if pd.notna(worst.get("rung_factors", "")) else ""),
+                           rung_errors=(str(worst.get(f"rungs_{q}", ""))
+                                        if pd.notna(worst.get(f"rungs_{q}", "")) else ""))
                 outcomes = [judge(e, r, tolerance[q]) if ok else "flawed" for e, r, ok in zip(errors, res, sound)]
                 # the sound ladder that fails by most, first
                 for j in np.argsort(-(np.abs(np.nan_to_num(errors, nan=np.inf)) + res)):
@@ -234,7 +236,8 @@ def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFram
             control_resolution = float(control.get(f"resolution_{q}", 0.0))
             if judge(control_error, control_resolution, tolerance[q]) != "pass":
                 why = control.problem if isinstance(control.problem, str) and control.problem else control.run
-                reasons.append(f"the control run (written as the study writes it) is off too: {control_error:.3e}; {why}")
+                reasons.append("the control run (written as the study writes it) is off too: "
+                               f"{control_error:.3e}; {why}")
             rows.append({"build": build, "engine": "", "law": f"regression:{case}", "geometry": user.geometry,
                          "criterion": "x0", "quantity": q, "planned": 1, "landed": 0 if failed else 1,
                          "failed": 1 if failed else 0, "max_abs_error": error, "resolution": resolution,

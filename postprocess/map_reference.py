@@ -17,10 +17,11 @@ from __future__ import annotations
 
 import math
 
-from engines.run_spec import GATED_LAWS, GAP_STEPS
+from contact_model import GATED_LAWS
+from engines.run_spec import GAP_STEPS
 from reference.engine_map import replay
 
-from .collision_metrics import CollisionMetrics, ExtractionError, collision_metrics
+from records.collision_metrics import CollisionMetrics, ExtractionError, collision_metrics
 
 
 def map_metrics(meta: dict, samples: int) -> CollisionMetrics:

@@ -16,9 +16,9 @@ import pandas as pd
 
 from engines.plan import rungs_of
 
-from .collision_metrics import collision_metrics
+from records.collision_metrics import collision_metrics
 from .comparison import comparison_rows
-from .dump_file import read_dump
+from records.dump_file import read_dump
 from .extrapolation import extrapolated_rows
 
 

@@ -9,210 +9,27 @@ paper's series are compared, not gated: where they depart from the reference, th
 
 from __future__ import annotations
 
-import itertools
-import multiprocessing
 import re
-from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+import pandas as pd
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib import cycler  # noqa: E402
-from matplotlib.legend_handler import HandlerTuple  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
+from contact_model import GATED_LAWS, GEOMETRIES
+from engines.codes import CODES
+from records.files import write_atomically
+from reference import FIRST_ORDER, HERTZ_TAU
 
-from contact_model import GEOMETRIES  # noqa: E402
-from engines import GATED_LAWS  # noqa: E402
-from engines.codes import CODES  # noqa: E402
-from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
-
-from .gate import GATED_QUANTITIES, gating, with_build  # noqa: E402
-from .report_matrix import (build_order, default_law_cells, default_matrix_html, default_matrix_markdown,  # noqa: E402
+from .gate import GATED_QUANTITIES, gating, with_build
+from .report_matrix import (build_order, default_law_cells, default_matrix_html, default_matrix_markdown,
                             matrix_cells, matrix_html, matrix_markdown)
-from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence  # noqa: E402
-from .verdict_files import write_atomically  # noqa: E402
-
-RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
-         "Q1": ("Q1/Q1e", "Q1e"), "Q2": ("Q2/Q2e", "Q2e")}
-#: The markers of the builds' cycle, paired with matplotlib's default colour cycle (tab10); a square
-#: first, so that the smaller markers of the builds after it nest inside it.
-MARKER_CYCLE = ("s", "o", "^", "D", "v", "P", "X", "<", "h", ">")
-#: The geometries, in the order of the legend; sphere-plane markers carry a dot at their centre.
-GEOMETRY_DOT = {"sphere-sphere": False, "sphere-plane": True}
-
-
-def build_styles(builds) -> dict[str, dict]:
-    """A distinct marker and colour per engine build, from the order of `builds` (config
-    `builds:`): matplotlib's colour cycle zipped with MARKER_CYCLE. Markers are hollow and
-    shrink along the list, so that builds that agree (the same point) show as nested markers,
-    every one visible.
-
-    Returns
-    -------
-    {build: {"color", "marker", "ms"}}, usable as keyword arguments of `Axes.plot`.
-    """
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    cycle = cycler(color=(colors * len(MARKER_CYCLE))[:len(MARKER_CYCLE)]) + cycler(marker=MARKER_CYCLE)
-    return {b: {**style, "ms": max(4.0, 14.0 - 2.0 * i)}
-            for i, (b, style) in enumerate(zip(builds, itertools.cycle(cycle)))}
-
-
-def _plot_points(ax, x, y, style: dict, geometry: str, semilogy: bool = False) -> None:
-    """A build's points in one geometry: its hollow marker, with a dot at the centre on
-    sphere-plane."""
-    plot = ax.semilogy if semilogy else ax.plot
-    plot(x, y, ls="none", mfc="none", mew=1.4, **style)
-    if GEOMETRY_DOT.get(geometry):
-        plot(x, y, ls="none", marker=".", ms=3.5, color=style["color"])
-
-
-def _legend(ax, styles: dict, present, labels: dict | None = None, fontsize=7) -> None:
-    """The axes' own entries, then one per build (its marker) and one per geometry."""
-    grey = {"color": "0.3", "marker": "o", "ms": 8, "mfc": "none", "mew": 1.4, "ls": "none"}
-    handles = [Line2D([], [], ls="none", mfc="none", mew=1.4, **styles[b]) for b in present]
-    names = [(labels or {}).get(b, b) for b in present]
-    handles += [Line2D([], [], **grey), (Line2D([], [], **grey), Line2D([], [], ls="none", marker=".", ms=3.5,
-                                                                         color="0.3"))]
-    names += list(GEOMETRY_DOT)
-    own, own_names = ax.get_legend_handles_labels()
-    ax.legend([*own, *handles], [*own_names, *names], fontsize=fontsize, handler_map={tuple: HandlerTuple(ndivide=1)})
-
-
-def _builds(table: pd.DataFrame, builds=None) -> list[str]:
-    """The builds of `table` in config order (`builds`), others after in order of appearance."""
-    return [b for b in build_order(builds, table) if b in set(table.build)]
-
+from .report_plots import plot_default_laws, plot_errors, plot_ratios, reference_curve, start_drawing
+from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence
 
 #: Where the matrices go in the report's text (Markdown in report.md, HTML tables in report.html).
 MATRIX, DEFAULT_MATRIX = "@@gated-matrix@@", "@@default-matrix@@"
-
-
-def _ratio(table, q):
-    name, scale = RATIO[q]
-    return table[q] / (table[scale] if isinstance(scale, str) else scale)
-
-
-def reference_curve(K_max: float, reference: pd.DataFrame | None = None):
-    """The reference solution on a K grid up to K_max: the study's reference table
-    (results/reference/collisions.csv, solved once by its own rule) where it reaches K_max,
-    solved here otherwise."""
-    if reference is not None and len(reference) and reference.K.max() >= K_max:
-        return reference[reference.K <= K_max].reset_index(drop=True)
-    return solve_collisions(np.linspace(0.0, K_max, 200))
-
-
-def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=None) -> None:
-    """eps, T/T_e, A/A_e, Q1/Q1e, Q2/Q2e against K: every build a marker of its own
-    (`build_styles`, in the order of `builds`), hollow, with a dot at the centre on sphere-plane;
-    the reference solver as a line (`curve`, see reference_curve), the paper's
-    series dashed."""
-    K = np.asarray(curve.K)
-    ref = hertz_ratios(curve, criterion)
-    runs = table[(table.criterion == criterion) & table.law.isin(GATED_LAWS)]
-    present = _builds(runs, builds)
-    styles = build_styles(build_order(builds, table))
-    fig, axes = plt.subplots(1, 5, figsize=(20, 4.2))
-    for ax, q in zip(axes, RATIO):
-        name = RATIO[q][0]
-        ax.plot(K, ref[name], "k-", lw=1.5, label="reference ODE")
-        ax.plot(K, paper_series_value(name, K), "k--", lw=1, label="paper's series")
-        for build in present:
-            for geometry in GEOMETRY_DOT:
-                sel = runs[(runs.build == build) & (runs.geometry == geometry)]
-                if len(sel):
-                    _plot_points(ax, sel.K, _ratio(sel, q), styles[build], geometry)
-        ax.set_xlabel("K")
-        ax.set_title(name)
-        ax.grid(alpha=0.3)
-    _legend(axes[0], styles, present)
-    fig.suptitle(f"Criterion {criterion}: every engine run of every case (viscoelastic laws)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -> None:
-    """|relative error| (extrapolated to dt -> 0) against K, one row of panels per criterion
-    (x0, F0) and one column per quantity; builds as in `plot_ratios`; each point's resolution as
-    a grey bar from the point up to |error| + resolution; the tolerance as a line."""
-    runs = table[table.law.isin(GATED_LAWS)]
-    present = _builds(runs, builds)
-    styles = build_styles(build_order(builds, table))
-    fig, axes = plt.subplots(2, 3, figsize=(15, 7.5), sharex=True, squeeze=False)
-    for row, criterion in zip(axes, ("x0", "F0")):
-        for ax, q in zip(row, GATED_QUANTITIES):
-            for build in present:
-                for geometry in GEOMETRY_DOT:
-                    sel = runs[(runs.build == build) & (runs.geometry == geometry) & (runs.criterion == criterion)]
-                    if len(sel):
-                        e = np.abs(sel[f"err_{q}"]).clip(lower=1e-12)
-                        if f"resolution_{q}" in sel.columns:
-                            ax.vlines(sel.K, e, e + sel[f"resolution_{q}"].fillna(0.0), color="0.75", lw=3, zorder=0)
-                        _plot_points(ax, sel.K, e, styles[build], geometry, semilogy=True)
-            ax.axhline(tolerance[q], color="k", ls=":", label="tolerance")
-            ax.set_title(f"criterion {criterion}: |{q}_engine / {q}_reference - 1| at dt -> 0", fontsize=10)
-            ax.grid(alpha=0.3, which="both")
-    for ax in axes[-1]:
-        ax.set_xlabel("K")
-    _legend(axes[0][0], styles, present)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def plot_default_laws(table: pd.DataFrame, path: Path, curve, builds=None) -> None:
-    """The out-of-the-box laws against the viscoelastic reference: eps, T/T_e and A/A_e against
-    K; builds as in `plot_ratios` (each under the criterion its default stands for)."""
-    runs = table[table.law == "default"]
-    present = _builds(runs, builds)
-    styles = build_styles(build_order(builds, table))
-    K = np.asarray(curve.K)
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    for ax, q in zip(axes, ("eps", "T", "A")):
-        name = RATIO[q][0]
-        for criterion, ls in (("x0", "-"), ("F0", "-.")):
-            ax.plot(K, hertz_ratios(curve, criterion)[name], "k", ls=ls, lw=1,
-                    label=f"viscoelastic reference, {criterion}")
-        for build in present:
-            for geometry in GEOMETRY_DOT:
-                sel = runs[(runs.build == build) & (runs.geometry == geometry)]
-                if len(sel):
-                    _plot_points(ax, sel.K, _ratio(sel, q), styles[build], geometry)
-        ax.set_xlabel("K of the viscoelastic model at that velocity")
-        ax.set_title(name)
-        ax.grid(alpha=0.3)
-    criteria = runs.groupby("build").criterion.first()
-    _legend(axes[0], styles, present, {b: f"{b} default ({criteria[b]})" for b in present})
-    fig.suptitle("Out-of-the-box laws (restitution matched once) against the viscoelastic model")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def start_drawing(plots, workers: int = 1):
-    """Draw `plots` ((function, args), ...) in up to `workers` forked processes, or in turn, here,
-    when workers is 1; returns the function that waits for them (raising a plot's failure). The
-    figures are independent and are most of the report's time (~4 of ~5.5 s), at the end of the
-    study, where the other core has nothing left to do: the report's text is written meanwhile."""
-    if workers <= 1 or len(plots) <= 1:
-        for function, args in plots:
-            function(*args)
-        return lambda: None
-    # fork: the children have matplotlib imported already (spawn would import it again, ~1 s each)
-    pool = ProcessPoolExecutor(min(workers, len(plots)), mp_context=multiprocessing.get_context("fork"))
-    futures = [pool.submit(function, *args) for function, args in plots]
-    pool.shutdown(wait=False)  # no more plots: the workers end with the last one
-
-    def wait():
-        for future in futures:
-            future.result()
-
-    return wait
 
 
 def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:
@@ -262,7 +79,8 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
         out.append(f"{build}'s out-of-the-box law (restitution {group.matched_restitution.iloc[0]:.4f}, matched at one "
                    f"velocity) gives eps {lo.eps:.4f} at K = {lo.K:.3g} where the viscoelastic model gives "
                    f"{lo.eps_ref:.4f} ({lo.err_eps:+.1%}), and {hi.eps:.4f} vs {hi.eps_ref:.4f} at K = {hi.K:.3g} "
-                   f"({hi.err_eps:+.1%}): a constant restitution cannot follow eps(K) ~ 1 - 1.009 K.")
+                   f"({hi.err_eps:+.1%}): a constant restitution cannot follow eps(K) ~ 1 - "
+                   f"{-FIRST_ORDER['eps']:.4g} K.")
     x0 = table[(table.criterion == "x0") & table.law.isin(GATED_LAWS)]
     if len(x0):
         i = x0.K.idxmax()
@@ -279,39 +97,67 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
     f0 = table[(table.criterion == "F0") & table.law.isin(GATED_LAWS)]
     if len(f0):
         r = f0.loc[f0.K.idxmax()]
+        x0_slope = FIRST_ORDER["T/T_e"]
         out.append(f"Under criterion F0 (separation at zero force) T/T_e = {r.T_ref / r.T_e:.4f} at K = {r.K:.3g}, "
-                   f"below the x0 value: the paper's T series (+0.1009 K) is the x0 one; under F0 the linear "
-                   "coefficient is 0.1009 - 0.8/tau_e = -0.1709.")
+                   f"below the x0 value: the paper's T series (+{x0_slope:.4f} K) is the x0 one; under F0 the linear "
+                   f"coefficient is {x0_slope:.4f} - 0.8/tau_e = {x0_slope - 0.8 / HERTZ_TAU:.4f}.")
     return out
 
 
-def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_dir: Path,
-                 series_cmp: pd.DataFrame | None = None, timing: dict | None = None, not_run: list[dict] = (),
-                 failed_runs: list[dict] = (), convergence: pd.DataFrame | None = None,
-                 convergence_orders: pd.DataFrame | None = None, convergence_spread: pd.DataFrame | None = None,
-                 regressions: pd.DataFrame | None = None, claims: pd.DataFrame | None = None,
-                 table1: pd.DataFrame | None = None, energy_check: pd.DataFrame | None = None,
-                 calibration: str | None = None, reference: pd.DataFrame | None = None,
-                 builds: list[str] | None = None, not_available=(), code_notes: dict | None = None,
-                 workers: int = 1, ladder: dict | None = None) -> None:
-    """Write report.md, report.html and the plots into out_dir (the plots in `workers` processes,
-    `start_drawing`).
+@dataclass
+class ReportInputs:
+    """What the report shows, as the study's rules read it.
 
-    checks, verdict: from `postprocess.gate` (the report shows them; it decides nothing; the
-    report shows them as a matrix, `postprocess.report_matrix`, and links to checks.csv, which
-    the caller writes next to it);
-    not_run: velocities the plan left out, with the reason; failed_runs: runs the engine did not
-    complete (of every law: gated ones also fail their checks); calibration: the text of
-    results/calibration/report.md, included as a section; reference: the reference table over a
-    K grid (results/reference/collisions.csv) for the curves of the plots; builds: the build ids
-    in config order (the matrix's rows and the plots' styles); not_available: the plans'
-    ``not_available`` cells (build, engine, law, geometry, reason); code_notes: {code: notes}
-    (`engines.codes.EngineCode.notes`) of the builds' codes, printed under the matrix; ladder:
-    config `ladder` (the time steps of the gated runs, described in the report).
+    table: summary.csv; checks, verdict: from `postprocess.gate` (the report shows them, as a
+    matrix, `postprocess.report_matrix`, and links to checks.csv, which the caller writes next to
+    it; it decides nothing); series_cmp: the paper's series coefficients against the solver's;
+    timing: the engine jobs' count and seconds; not_run: velocities the plan left out, with the
+    reason; failed_runs: runs the engine did not complete (of every law: gated ones also fail
+    their checks); convergence, convergence_orders, convergence_spread: results/convergence/;
+    regressions: the LAMMPS regression cases; claims, table1, energy_check: results/paper/;
+    calibration: the text of results/calibration/report.md, included as a section; reference: the
+    reference table over a K grid (results/reference/collisions.csv) for the curves of the plots;
+    builds: the build ids in config order (the matrix's rows and the plots' styles);
+    not_available: the plans' ``not_available`` cells (build, engine, law, geometry, reason);
+    code_notes: {code: notes} (`engines.codes.EngineCode.notes`) of the builds' codes, printed
+    under the matrix; ladder: config `ladder` (the time steps of the gated runs, described).
+    """
+
+    table: pd.DataFrame
+    checks: pd.DataFrame
+    verdict: dict
+    series_cmp: pd.DataFrame | None = None
+    timing: dict | None = None
+    not_run: list = field(default_factory=list)
+    failed_runs: list = field(default_factory=list)
+    convergence: pd.DataFrame | None = None
+    convergence_orders: pd.DataFrame | None = None
+    convergence_spread: pd.DataFrame | None = None
+    regressions: pd.DataFrame | None = None
+    claims: pd.DataFrame | None = None
+    table1: pd.DataFrame | None = None
+    energy_check: pd.DataFrame | None = None
+    calibration: str | None = None
+    reference: pd.DataFrame | None = None
+    builds: list | None = None
+    not_available: list = field(default_factory=list)
+    code_notes: dict | None = None
+    ladder: dict | None = None
+
+
+def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
+    """Write report.md, report.html and the plots of `inputs` into out_dir (the plots in
+    `workers` processes, `postprocess.report_plots.start_drawing`).
 
     The gated laws are shown by their ladders' limits (summary rows with dt = 0), the
     out-of-the-box laws by their runs.
     """
+    i = inputs
+    table, checks, verdict, builds, not_available = i.table, i.checks, i.verdict, i.builds, i.not_available
+    series_cmp, timing, not_run, failed_runs, ladder = i.series_cmp, i.timing, i.not_run, i.failed_runs, i.ladder
+    convergence, convergence_orders, convergence_spread = i.convergence, i.convergence_orders, i.convergence_spread
+    regressions, claims, table1, energy_check = i.regressions, i.claims, i.table1, i.energy_check
+    calibration, reference, code_notes = i.calibration, i.reference, i.code_notes
     table = with_build(table)
     full = table
     is_limit = (table.dt == 0) if "dt" in table.columns else pd.Series(False, index=table.index)
@@ -344,7 +190,8 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
     lines = [
         "# Viscoelastic Hertz contact in DEM engines: comparison report", "",
         f"**Verdict: {verdict['verdict']}** — {verdict['checked'] - verdict['failed']} of {verdict['checked']} gated "
-        "checks (engine build x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs reference): "
+        "checks (engine build x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs "
+        "reference): "
         + ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES) + ".", "",
     ]
     sentence = resolution_sentence(gating(checks), tolerance)
@@ -370,9 +217,10 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
               "result. Hover a cell of report.html for the worst quantity, case, K and run, and the reason of a "
               "failure.", "", ladder_settings(ladder), "", MATRIX, ""]
     if has_rows:
-        lines += ["## Against K", "", ("Every engine build a marker and colour of its own (hollow; a dot at the centre: sphere-plane), "
-                  "smaller along the build list, so that builds that agree show as nested markers; the reference "
-                  "solver as a line, the paper's series dashed."),
+        lines += ["## Against K", "", ("Every engine build a marker and colour of its own (hollow; a dot at the "
+                                       "centre: sphere-plane), smaller along the build list, so that builds that "
+                                       "agree show as nested markers; the reference solver as a line, the paper's "
+                                       "series dashed."),
                   "", "![criterion x0](plots/ratios_x0.png)", "", "![criterion F0](plots/ratios_F0.png)", "",
                   "The errors of the gated laws extrapolated to dt -> 0, each with its resolution (grey bar):", "",
                   "![errors](plots/errors.png)", ""]
@@ -396,8 +244,9 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
                   "Each engine's own restitution law ("
                   + "; ".join(f"{code}: {CODES[code].default_law}" for code in dict.fromkeys(table.engine)
                               if code in CODES and CODES[code].default_law) +
-                  "), given the reference eps at one velocity as its restitution coefficient (under the criterion its default "
-                  "stands for: x0 where the attractive tail is kept, F0 where the force is clipped); compared, not "
+                  "), given the reference eps at one velocity as its restitution coefficient (under the "
+                  "criterion its default stands for: x0 where the attractive tail is kept, F0 where the force is "
+                  "clipped); compared, not "
                   "gated. Each cell: the quantity (T, A or eps) with the largest relative error over every case and "
                   "K, that error, and the criterion.", "", DEFAULT_MATRIX, "",
                   "`restitution` is what the engine was told; `eps_min`/`eps_max` what it gave across the sweep.",
@@ -410,11 +259,13 @@ def write_report(table: pd.DataFrame, checks: pd.DataFrame, verdict: dict, out_d
         lines += ["## Runs not made or not completed", ""]
         if len(not_run):
             lines += ["Not run (see `results/<case>/plan.json`):", "",
-                      _md_table(pd.DataFrame(list(not_run))[["case", "geometry", "K", "V", "delta_e/R*", "reason"]]), ""]
+                      _md_table(pd.DataFrame(list(not_run))[["case", "geometry", "K", "V", "delta_e/R*",
+                                                             "reason"]]), ""]
         if len(failed_runs):
             lines += ["Runs the engine did not complete (a gated law's failure fails its checks above; the "
                       "out-of-the-box laws are not gated):", "",
-                      _md_table(with_build(pd.DataFrame(list(failed_runs)))[["case", "build", "law", "run", "problem", "log"]]),
+                      _md_table(with_build(pd.DataFrame(list(failed_runs)))[["case", "build", "law", "run", "problem",
+                                                                             "log"]]),
                       ""]
     if convergence is not None:
         lines += _convergence_section(convergence, convergence_orders, convergence_spread)
@@ -453,6 +304,10 @@ def _lammps_regression_section(regressions: pd.DataFrame, checks: pd.DataFrame) 
     cells = cells.reset_index()
     wall = user[user.case == "wall-modulus"]
     nu_err = float(wall.defect_err_T.iloc[0]) if len(wall) else float("nan")
+    mixing_measured = "; ".join(
+        f"{r.build}: T off by {r.err_T:+.3g}, eps by {r.err_eps:+.3g}" if pd.notna(r.err_T) else
+        f"{r.build}: no result ({r.problem if isinstance(r.problem, str) and r.problem else 'its run failed'})"
+        for r in user[user.case == "mixing"].itertuples()) or "no run"
     return ["## LAMMPS: regression cases of two 2021 defects", "",
             "Run in every LAMMPS build; reported, not gated (their checks are in `checks.csv` with `gates` False, "
             "and `compare` shows a fixed defect as a fix). Each case is written twice: the way a user would write "
@@ -462,10 +317,9 @@ def _lammps_regression_section(regressions: pd.DataFrame, checks: pd.DataFrame) 
             f"E/(2(1-nu^2)), (1+nu) times too stiff: T off by (1+nu)^(-2/5) - 1 = {nu_err:.4%}. The study gives "
             "the wall an explicit `hertz` kn.",
             "- **mixing**: two equal spheres (K = 0.1) of two atom types, one `pair_coeff i i` line per type, the "
-            "1-2 pair left to mixing. In the 2021 build the mixed pair loses its Hertz and damping models: "
-            "measured here, the contact time is off by about -100 % and eps is far above 1 in one run, and the "
-            "same deck ends in SIGSEGV in another (coefficients left uninitialised). The study writes one "
-            "`pair_coeff * *` line.", "",
+            "1-2 pair left to mixing. In the 2021 build the mixed pair loses its Hertz and damping models (its "
+            "coefficients are left uninitialised: the contact time comes out wrong, or the run ends in SIGSEGV). "
+            f"In this study: {mixing_measured}. The study writes one `pair_coeff * *` line.", "",
             "Worst |relative error| of T, A and eps, build x case (right: every check within its tolerance):", "",
             _md_table(cells), "", "Every run (`results/lammps/regressions.csv`):", "",
             _md_table(regressions[["build", "engine_version", "case", "role", "written as", "err_T", "err_A",
@@ -519,8 +373,9 @@ def _convergence_section(largest: pd.DataFrame, orders: pd.DataFrame | None = No
                   + "; ".join(f"{r.law} {r.quantity} {r.min:.2f}-{r.max:.2f}" for r in o.itertuples()) + ".", ""]
     if spread is not None and len(spread):
         worst = spread.loc[spread.spread.idxmax()]
-        lines += [f"The builds differ little: at the same law, geometry, K, criterion and step their errors differ by at "
-                  f"most {spread.spread.max():.1e} of the error's size ({worst.law}, {worst.geometry}, K = {worst.K:g}, "
+        lines += [f"The builds differ little: at the same law, geometry, K, criterion and step their errors differ "
+                  f"by at most {spread.spread.max():.1e} of the error's size ({worst.law}, {worst.geometry}, "
+                  f"K = {worst.K:g}, "
                   f"{worst.quantity}, dt = T_e/{1 / worst.h:.0f}; `build_spread.csv`). Velocity Verlet (LAMMPS, "
                   "LIGGGHTS), leapfrog (YADE) and symplectic Euler (ESyS, Kratos) are one map on positions and "
                   "half-step velocities, so a time step safe in one build is safe in all.", ""]

@@ -21,12 +21,10 @@ from typing import Iterable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from contact_model import GEOMETRIES
-from engines.run_spec import GATED_LAWS, LAW_CRITERIA
+from contact_model import CRITERIA, GATED_LAWS, GEOMETRIES, LAW_CRITERIA
 
 from .gate import GATED_QUANTITIES, with_build
 
-CRITERIA = ("x0", "F0")
 #: The columns of a matrix cell (`matrix_cells`), in order.
 CELL_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "status", "worst_error", "worst_quantity",
                 "tolerance", "failing", "case", "at_K", "at_run", "reason", "resolution"]
@@ -64,7 +62,7 @@ def not_available_cells(not_available, law_criteria: Mapping[str, Sequence[str]]
         The ``not_available`` lists of any number of plan.json files: build, engine, law,
         geometry, reason (duplicates across cases are merged).
     law_criteria : mapping
-        The criteria a gated law stands for (`engines.run_spec.LAW_CRITERIA`); laws absent
+        The criteria a gated law stands for (`contact_model.LAW_CRITERIA`); laws absent
         from it (``default``: compared, not gated) are left out.
 
     Returns
@@ -103,7 +101,7 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
     builds : sequence of str, optional
         The build ids in config order: the order of the rows. Builds missing from it follow.
     law_criteria : mapping
-        The criteria of each gated law (`engines.run_spec.LAW_CRITERIA`).
+        The criteria of each gated law (`contact_model.LAW_CRITERIA`).
 
     Returns
     -------

@@ -544,11 +544,10 @@ def _phase_record(ph, m, y, p):
 @_jit
 def _result_row(K, m, row):
     """The N_OUT characteristics (CollisionTable's field order) of a K from its record m."""
-    tau_f, v_f, D_f = m[M_TAUF], m[M_VF], m[M_DF]
+    tau_f, v_f = m[M_TAUF], m[M_VF]
     if m[M_FOUND] == 0.0:  # K = 0: the force vanishes at x = 0; K < 0: F0 means nothing
         no_sign_change = np.nan if K < 0 else 1.0
-        tau_f, v_f, D_f = (m[M_TAU0] * no_sign_change, m[M_VEND] * no_sign_change,
-                           m[M_D0] * no_sign_change)
+        tau_f, v_f = m[M_TAU0] * no_sign_change, m[M_VEND] * no_sign_change
     if m[M_IN_A] == 1.0:
         x_fm, v_fm, tau_fm = m[M_XA], m[M_VA], m[M_TA]
     elif m[M_IN_B] == 1.0:

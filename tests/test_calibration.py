@@ -187,7 +187,8 @@ def test_pade_expansion_has_the_known_coefficients():
     """Expanding the [1/4] Pade in v*: 1 - C_1 v^2 + 0 v^3 + C_2 v^4 + (4/15) v^5, to its printed digits."""
     s = np.zeros(6)
     for n in range(6):
-        s[n] = (PADE_NUMERATOR[n] if n < 2 else 0.0) - sum(PADE_DENOMINATOR[k] * s[n - k] for k in range(1, min(n, 4) + 1))
+        s[n] = (PADE_NUMERATOR[n] if n < 2 else 0.0) - sum(PADE_DENOMINATOR[k] * s[n - k]
+                                                           for k in range(1, min(n, 4) + 1))
     assert s[:3] == pytest.approx([1.0, 0.0, -RAMIREZ_C1], abs=1e-5)
     assert abs(s[3]) < 1e-6
     assert s[4] == pytest.approx(RAMIREZ_C2, abs=1e-5)
@@ -252,5 +253,6 @@ def test_case_fits_are_calibrates_fits():
     assert list(alone) == list(fits) == ["x0", "F0", "series"]
     for name, f in fits.items():
         g = alone[name]
-        assert (g.model, g.criterion, g.k, g.k_low, g.k_high, g.chi2) == (f.model, f.criterion, f.k, f.k_low, f.k_high, f.chi2)
+        assert ((g.model, g.criterion, g.k, g.k_low, g.k_high, g.chi2)
+                == (f.model, f.criterion, f.k, f.k_low, f.k_high, f.chi2))
         assert np.array_equal(g.eps_fit, f.eps_fit) and np.array_equal(g.residuals, f.residuals)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicHermiteSpline
 
-from postprocess.collision_metrics import ExtractionError, collision_metrics
-from postprocess.dump_file import DumpError, read_dump, write_dump
+from records.collision_metrics import ExtractionError, collision_metrics
+from records.dump_file import DumpError, read_dump, write_dump
 from reference import collision_trajectory, solve_collision
 
 
@@ -170,7 +170,7 @@ def test_dump_round_trip_and_errors(tmp_path):
 def test_root_in_keeps_the_root_inside_and_nearest_to_the_start():
     """_root_in: the real root in [lo, hi] nearest to lo (a cubic with three roots), None when the
     polynomial has none there; a root within rounding of an end is clamped onto it."""
-    from postprocess.collision_metrics import _root_in
+    from records.collision_metrics import _root_in
 
     c = np.poly([1.0, 2.0, 3.0])  # (t - 1)(t - 2)(t - 3), in t - t0 with t0 = 0
     assert _root_in(c, 0.0, 1.5, 3.5) == pytest.approx(2.0)

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from contact_model import Body, ContactPair
-from postprocess.collision_metrics import CollisionMetrics
+from records.collision_metrics import CollisionMetrics
 from postprocess.comparison import comparison_rows, hertz_Q, measured
 from reference import solve_collision
 

@@ -7,6 +7,7 @@ import pytest
 from contact_model import Body, ContactPair, effective_mass, effective_modulus, effective_radius
 from contact_model import collision_scales as cs
 from contact_model.engine_parameters import esys_plane_as_sphere
+from engines.codes import CODES, code
 from reference import HERTZ_TAU, K_PREFACTOR
 
 STEEL = dict(E=109e9, R=0.635e-2 / 2, M=4 / 3 * math.pi * 0.635e-2**3 * 7800 / 2, eta=67e3)
@@ -77,17 +78,17 @@ def test_engine_parameters_reproduce_the_model_force():
     pair = ContactPair("sphere-sphere", Body(2 * R, 7800), Body(2 * R, 7800), E, eta)
     delta, rate = 3e-6, 0.7
     model = 4 / 3 * E * math.sqrt(R) * delta**1.5 + 2 * eta * math.sqrt(R) * math.sqrt(delta) * rate
-    lig = pair.engine_parameters("liggghts")
+    lig = CODES["liggghts"].contact_parameters(pair)
     a = math.sqrt(pair.R * delta)
     assert lig["kn"] * a * delta + lig["gamman"] * pair.M * a * rate == pytest.approx(model, rel=1e-13)
-    yade = pair.engine_parameters("yade")
+    yade = CODES["yade"].contact_parameters(pair)
     E_mindlin = 1 / (2 * (1 - yade["poisson"] ** 2) / yade["young"])
     assert 4 / 3 * E_mindlin * math.sqrt(pair.R) * delta**1.5 + yade["c"] * math.sqrt(delta) * rate \
         == pytest.approx(model, rel=1e-13)
-    lmp = pair.engine_parameters("lammps")
+    lmp = CODES["lammps"].contact_parameters(pair)
     assert lmp["kn"] * a * delta + lmp["eta_n0"] * a * pair.M * rate == pytest.approx(model, rel=1e-13)
-    with pytest.raises(ValueError, match="unknown engine"):
-        pair.engine_parameters("nosuch")
+    with pytest.raises(ValueError, match="unknown engine code 'nosuch'; known: liggghts, yade"):
+        code("nosuch")
 
 
 @pytest.mark.parametrize("geometry", ["sphere-sphere", "sphere-plane"])
@@ -98,7 +99,7 @@ def test_kratos_parameters_give_the_hertz_force(geometry):
     E, R = STEEL["E"], STEEL["R"]
     other = Body(R, 7800) if geometry == "sphere-sphere" else Body(math.inf, math.inf)
     pair = ContactPair(geometry, Body(R, 7800), other, E, STEEL["eta"])
-    k = pair.engine_parameters("kratos")
+    k = CODES["kratos"].contact_parameters(pair)
     assert k == {"young": 2 * E, "poisson": 0.0}  # eta has no Kratos parameter
     Y1 = Y2 = k["young"]
     nu1 = nu2 = k["poisson"]
@@ -124,7 +125,7 @@ def test_esys_parameters_reproduce_the_model_force_on_a_sphere_and_on_the_plane(
         return 4 / 3 * E * math.sqrt(R_star) * delta**1.5 + 2 * eta * math.sqrt(R_star) * math.sqrt(delta) * rate
 
     two = ContactPair("sphere-sphere", Body(2 * R, 7800), Body(2 * R, 7800), E, eta)
-    p = two.engine_parameters("esys")
+    p = CODES["esys"].contact_parameters(two)
     assert esys_force(p, 2 * R, 2 * R) == pytest.approx(model(two.R), rel=1e-14)
     # Its Hertz-Mindlin law (HertzMindlinViscoInteraction.cpp) takes E* itself: F_el = 4/3 E sqrt(R*) delta^{3/2}.
     assert 4 / 3 * p["E_hertz_mindlin"] * math.sqrt(two.R) * delta**1.5 == pytest.approx(
@@ -133,13 +134,15 @@ def test_esys_parameters_reproduce_the_model_force_on_a_sphere_and_on_the_plane(
     assert plane.R == R
     wall = esys_plane_as_sphere(R)
     assert wall["R_wall"] == R and wall["modulus_factor"] == pytest.approx(math.sqrt(2.0), rel=1e-15)
-    q = plane.engine_parameters("esys")
+    q = CODES["esys"].contact_parameters(plane)
     scaled = {**q, "E": q["E"] * wall["modulus_factor"]}
     assert esys_force(scaled, R, wall["R_wall"]) == pytest.approx(model(R), rel=1e-14)
-    assert esys_force(q, R, wall["R_wall"]) / model(R) - 1 == pytest.approx(math.sqrt(0.5) - 1, rel=1e-12)  # unscaled: R* = R/2
+    assert (esys_force(q, R, wall["R_wall"]) / model(R) - 1
+            == pytest.approx(math.sqrt(0.5) - 1, rel=1e-12))  # unscaled: R* = R/2
     # Any radius gives the plane's force once scaled (the study takes R: the smallest rounding).
     far = esys_plane_as_sphere(R, 1e3)
-    assert esys_force({**q, "E": q["E"] * far["modulus_factor"]}, R, far["R_wall"]) == pytest.approx(model(R), rel=1e-14)
+    assert (esys_force({**q, "E": q["E"] * far["modulus_factor"]}, R, far["R_wall"])
+            == pytest.approx(model(R), rel=1e-14))
     with pytest.raises(ValueError, match="at least 1"):
         esys_plane_as_sphere(R, ratio=0.5)
 

@@ -7,9 +7,10 @@ import shutil
 import numpy as np
 import pytest
 
-from postprocess.collision_metrics import ExtractionError, collision_metrics
-from postprocess.dump_file import DumpError, read_dump, write_dump
-from postprocess.run_manifest import manifest_dumps, read_manifest, sha256_of, write_manifest
+from records.collision_metrics import ExtractionError, collision_metrics
+from records.dump_file import DumpError, read_dump, write_dump
+from records.files import file_sha256
+from records.run_manifest import manifest_dumps, read_manifest, write_manifest
 from test_collision_metrics import sampled_reference
 from reference import solve_collision
 
@@ -35,7 +36,7 @@ def test_manifest_holds_relative_paths_and_checksums(job):
     raw = json.loads(job.read_text())
     assert [d["path"] for d in raw["dumps"]] == ["runs/a.csv", "runs/b.csv"]
     assert raw["failed"] == [{"run": "c", "law": "default", "problem": "boom", "log": "runs/test.log"}]
-    assert raw["dumps"][0]["sha256"] == sha256_of(job.parent / "runs" / "a.csv")
+    assert raw["dumps"][0]["sha256"] == file_sha256(job.parent / "runs" / "a.csv")
     got = list(manifest_dumps(job))
     assert len(got) == 2
     path, meta, cols, m = got[0]

@@ -1,14 +1,15 @@
 """ESyS-Particle, run for real: HertzianViscoElastic (clipped, and elastic with A = 0) against the
-reference solver in both geometries, the plane's stand-in sphere, the out-of-the-box law, and
-the errors for a missing engine, a crash, or a run that misses the collision. All runs of a
+reference solver in both geometries, the plane's stand-in sphere, the out-of-the-box law, a
+missing mpirun and a failed run inside a sweep (a missing engine, a crash and a run that misses
+the collision: test_engine_drivers, for every code). All runs of a
 test share one ESyS process (mpirun -np 2), as the study does."""
 
 import math
 
 import pytest
 
-from engine_cases import TOLERANCE, VELOCITY, dump_metrics, relative_errors, require_engine, steel_pair
-from engines import EngineMissing, EngineRunFailed, RunSpec
+from engine_cases import TOLERANCE, VELOCITY, VERSIONS, dump_metrics, relative_errors, require_engine, steel_pair
+from engines import EngineMissing, RunSpec
 from engines import esys
 from engines.builds import Build, check_build
 from engines.codes import law_unavailable
@@ -42,7 +43,7 @@ def test_clipped_force_matches_reference_F0(sweep, geometry):
     velocity, a half step behind the overlap in ESyS's symplectic Euler); eps gets 1e-5. Both
     are far inside the study's tolerance (5e-4)."""
     spec, meta, m = sweep[("viscoelastic_clipped", geometry, VELOCITY)]
-    assert meta["engine"] == "esys" and meta["engine_version"] == "ESyS-Particle 2.3.4"
+    assert meta["engine"] == "esys" and meta["engine_version"] == VERSIONS["esys-2.3.5"]
     assert len(meta["deck_sha256"]) == 64 and meta["represents"] == ["F0"]
     assert m.samples_in_contact >= 200
     errors = relative_errors(m, spec)
@@ -114,44 +115,23 @@ def test_viscoelastic_with_tail_is_unavailable_with_its_reason(tmp_path):
     from engines.plan import plan_at_velocity
     from pathlib import Path
     case = load_case(Path(__file__).resolve().parents[1] / "cases" / "steel.yaml")
-    assert {r.law for r in plan_at_velocity(case, "esys", [0.1], [1000], 1.0, "convergence")} == {"viscoelastic_clipped"}
+    assert ({r.law for r in plan_at_velocity(case, "esys", [0.1], [1000], 1.0, "convergence")}
+            == {"viscoelastic_clipped"})
     assert {r.law for r in plan_at_velocity(case, "yade", [0.1], [1000], 1.0, "convergence")} == {"viscoelastic"}
 
 
 def test_version_is_read_from_esys_and_other_programs_are_refused(tmp_path):
-    assert check_build(Build("esys-2.3.5", "esys", "esysparticle")) == "ESyS-Particle 2.3.4"
+    assert check_build(Build("esys-2.3.5", "esys", "esysparticle")) == VERSIONS["esys-2.3.5"]
     from engines.builds import BuildError
     with pytest.raises(BuildError, match=r"build 'esys-mine' \(esys\): .* cannot report its version"):
         check_build(Build("esys-mine", "esys", "python3"))  # a Python without esys.lsm
 
 
-def test_missing_engine_names_the_install_command(tmp_path):
+def test_missing_mpirun_names_the_install_command(tmp_path):
+    # (a missing esysparticle: test_engine_drivers, for every code)
     spec = RunSpec("steel", "esys", "elastic", steel_pair("sphere-plane"), VELOCITY)
-    with pytest.raises(EngineMissing, match="apt-get install esys-particle"):
-        esys.run_esys([spec], tmp_path, executable="esysparticle-not-installed")
     with pytest.raises(EngineMissing, match="'mpirun-not-installed' is not on PATH.*apt-get install esys-particle"):
         esys.run_esys([spec], tmp_path, mpirun="mpirun-not-installed")
-
-
-def test_engine_crash_names_the_log(tmp_path, monkeypatch):
-    broken = tmp_path / "collisions.py"
-    broken.write_text(esys.DRIVER.read_text().replace("import json", "import json\nraise SystemExit(3)", 1))
-    monkeypatch.setattr(esys, "DRIVER", broken)
-    spec = RunSpec("steel", "esys", "elastic", steel_pair("sphere-plane"), VELOCITY)
-    with pytest.raises(EngineRunFailed, match=r"esys exited with status 3.*esys\.log"):
-        esys.run_esys([spec], tmp_path / "out").raise_first()
-    assert not (tmp_path / "out" / f"{spec.name}.csv").exists()
-
-
-def test_run_that_never_touches_fails_and_others_still_land(tmp_path, monkeypatch):
-    good = RunSpec("steel", "esys", "viscoelastic_clipped", steel_pair("sphere-plane"), VELOCITY)
-    short = RunSpec("steel", "esys", "viscoelastic_clipped", steel_pair("sphere-sphere"), VELOCITY)
-    real_steps = RunSpec.steps
-    monkeypatch.setattr(RunSpec, "steps", lambda self: 10 if self is short else real_steps(self))
-    sweep = esys.run_esys([short, good], tmp_path)
-    assert list(sweep.dumps) == [good.name] and (tmp_path / f"{good.name}.csv").exists()
-    assert "never touch" in str(sweep.failures[short.name])
-    assert not (tmp_path / f"{short.name}.csv").exists()
 
 
 def test_a_failed_run_leaves_nothing_that_acts_on_the_next(tmp_path, monkeypatch):

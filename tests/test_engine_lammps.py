@@ -4,7 +4,7 @@ and the fix wall/gran hertz/material defect of the Debian version as a regressio
 import pytest
 
 from engine_cases import TOLERANCE, VELOCITY, dump_metrics, relative_errors, require_engine, steel_pair
-from engines import EngineMissing, RunSpec
+from engines import RunSpec
 from engines.lammps import run_lammps, wall_modulus_regression
 
 GEOMETRIES = ("sphere-sphere", "sphere-plane")
@@ -46,9 +46,3 @@ def test_wall_hertz_material_is_stiffer_by_one_plus_nu(tmp_path):
     assert abs(relative_errors(right, explicit)["A"]) < 1e-5
     assert wrong.delta_max / right.delta_max == pytest.approx(1.3 ** -0.4, rel=1e-5)
     assert wrong.T_x0 / right.T_x0 == pytest.approx(1.3 ** -0.4, rel=1e-5)
-
-
-def test_missing_engine_names_the_install_command(tmp_path):
-    spec = RunSpec("steel", "lammps", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
-    with pytest.raises(EngineMissing, match="apt-get install lammps"):
-        run_lammps([spec], tmp_path, executable="lmp-not-installed")

@@ -1,15 +1,16 @@
 """LIGGGHTS, run for real: the viscoelastic Hertz contact against the reference solver, and the
-errors a user gets for a missing engine, a crash, or a run that misses the collision."""
+errors a user gets for a crash or a run that misses the collision (a missing engine:
+test_engine_drivers, for every code)."""
 
 import dataclasses
 
 import pytest
 
 from engine_cases import TOLERANCE, VELOCITY, relative_errors, require_engine, steel_pair
-from engines import EngineMissing, EngineRunFailed, RunSpec
+from engines import EngineRunFailed, RunSpec
 from engines import liggghts
-from postprocess.collision_metrics import collision_metrics
-from postprocess.dump_file import read_dump
+from records.collision_metrics import collision_metrics
+from records.dump_file import read_dump
 
 
 @pytest.fixture(autouse=True)
@@ -54,12 +55,6 @@ def test_elastic_contact_is_hertz(tmp_path):
         assert abs(errors[q]) < 1e-4, (q, errors[q])
 
 
-def test_missing_engine_names_the_install_command(tmp_path):
-    spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
-    with pytest.raises(EngineMissing, match="apt-get install liggghts"):
-        liggghts.run_liggghts([spec], tmp_path, executable="liggghts-not-installed")
-
-
 def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path):
     broken = tmp_path / "decks"
     broken.mkdir()
@@ -84,7 +79,8 @@ def test_engine_error_names_the_log_and_leaves_no_dump(tmp_path):
 @pytest.mark.parametrize("steps, words", [(10, "never touch"), (200, "still open")])
 def test_runs_that_miss_the_collision_fail(tmp_path, monkeypatch, steps, words):
     real_steps = RunSpec.steps
-    monkeypatch.setattr(RunSpec, "steps", lambda self: steps if self.pair.geometry == "sphere-sphere" else real_steps(self))
+    monkeypatch.setattr(RunSpec, "steps",
+                        lambda self: steps if self.pair.geometry == "sphere-sphere" else real_steps(self))
     spec = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
     good = RunSpec("steel", "liggghts", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
     with pytest.raises(EngineRunFailed, match=words):
@@ -95,7 +91,8 @@ def test_runs_that_miss_the_collision_fail(tmp_path, monkeypatch, steps, words):
 
 def test_a_sweep_in_one_process_equals_solo_runs(tmp_path):
     """`clear` between runs leaves nothing behind: the dumps' data are identical to solo runs."""
-    specs = [RunSpec("steel", "liggghts", law, steel_pair(g), VELOCITY, matched_restitution=0.9 if law == "default" else None)
+    specs = [RunSpec("steel", "liggghts", law, steel_pair(g), VELOCITY,
+                     matched_restitution=0.9 if law == "default" else None)
              for g in ("sphere-plane", "sphere-sphere") for law in ("default", "viscoelastic")]
     swept = liggghts.run_liggghts(specs, tmp_path / "sweep").raise_first().dumps[specs[-1].name]
     solo = liggghts.run_liggghts(specs[-1:], tmp_path / "solo").raise_first().dumps[specs[-1].name]

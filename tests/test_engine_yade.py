@@ -1,11 +1,12 @@
 """YADE, run for real: the viscoelastic Hertz contact (added to Hertz-Mindlin) against the
-reference solver, the out-of-the-box law, and the errors for a missing engine, a crash, or a
-run that misses the collision. All runs of a test share one YADE process, as the study does."""
+reference solver and the out-of-the-box law (a missing engine, a crash and a run that misses the
+collision: test_engine_drivers, for every code). All runs of a test share one YADE process, as the
+study does."""
 
 import pytest
 
 from engine_cases import TOLERANCE, VELOCITY, dump_metrics, relative_errors, require_engine, steel_pair
-from engines import EngineMissing, EngineRunFailed, RunSpec
+from engines import RunSpec
 from engines import yade
 from reference import solve_collision
 
@@ -67,30 +68,3 @@ def test_default_law_restitutes_what_the_user_asked_at_every_velocity(sweep, geo
     assert fast.eps_F0 == pytest.approx(asked, abs=1e-3)
     assert slow.eps_F0 == pytest.approx(fast.eps_F0, abs=1e-5)
     assert solve_collision(0.1 * 0.01 ** 0.2)["eps_F0"] - slow.eps_F0 > 0.05
-
-
-def test_missing_engine_names_the_install_command(tmp_path):
-    spec = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
-    with pytest.raises(EngineMissing, match="apt-get install yade"):
-        yade.run_yade([spec], tmp_path, executable="yade-not-installed")
-
-
-def test_engine_crash_names_the_log(tmp_path, monkeypatch):
-    broken = tmp_path / "collisions.py"
-    broken.write_text(yade.DRIVER.read_text().replace("import json", "import json\nraise SystemExit(3)", 1))
-    monkeypatch.setattr(yade, "DRIVER", broken)
-    spec = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
-    with pytest.raises(EngineRunFailed, match=r"yade exited with status 3.*yade\.log"):
-        yade.run_yade([spec], tmp_path / "out").raise_first()
-    assert not (tmp_path / "out" / f"{spec.name}.csv").exists()
-
-
-def test_run_that_never_touches_fails_and_others_still_land(tmp_path, monkeypatch):
-    good = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-plane"), VELOCITY)
-    short = RunSpec("steel", "yade", "viscoelastic", steel_pair("sphere-sphere"), VELOCITY)
-    real_steps = RunSpec.steps
-    monkeypatch.setattr(RunSpec, "steps", lambda self: 10 if self is short else real_steps(self))
-    with pytest.raises(EngineRunFailed, match="never touch"):
-        yade.run_yade([good, short], tmp_path).raise_first()
-    assert (tmp_path / f"{good.name}.csv").exists()
-    assert not (tmp_path / f"{short.name}.csv").exists()

@@ -17,7 +17,7 @@ Error in rule run_engine:
     jobid: 14
     input: cases/steel.yaml
     output: results/steel/esys/manifest.json, results/steel/esys/runs
-    log: logs/steel/esys.log, /p/.snakemake/slurm_logs/rule_run_engine/steel_esys/35.log (check log file(s) for error details)
+    log: logs/steel/esys.log, /p/slurm_logs/35.log (check log file(s) for error details)
     external_jobid: 35
 Trying to restart job 14.
 [Wed Nov 25 13:48:25 2026]
@@ -32,7 +32,7 @@ Error in rule run_engine:
     message: SLURM-job '41' failed, SLURM status is: 'TIMEOUT'. Reason: Unknown.
     jobid: 14
     output: results/steel/esys/manifest.json, results/steel/esys/runs
-    log: logs/steel/esys.log, /p/.snakemake/slurm_logs/rule_run_engine/steel_esys/41.log (check log file(s) for error details)
+    log: logs/steel/esys.log, /p/slurm_logs/41.log (check log file(s) for error details)
     external_jobid: 41
 [Wed Nov 25 13:49:10 2026]
 Finished jobid: 4 (Rule: case_summary)
@@ -48,7 +48,7 @@ def test_failed_jobs_are_read_from_the_log_once_each_with_their_last_attempt_and
     assert [(j.rule, j.jobid, j.external_jobid) for j in jobs] == [("run_engine", "14", "41"), ("gate", "1", None)]
     engine = jobs[0]
     assert engine.outputs == ["results/steel/esys/manifest.json", "results/steel/esys/runs"]
-    assert engine.logs == ["logs/steel/esys.log", "/p/.snakemake/slurm_logs/rule_run_engine/steel_esys/41.log"]
+    assert engine.logs == ["logs/steel/esys.log", "/p/slurm_logs/41.log"]
     assert "TIMEOUT" in engine.message and jobs[1].message == ""  # Snakemake's "None" is no message
 
 
@@ -71,7 +71,8 @@ def _rows(state, elapsed="00:01:20", limit="00:01:00", mem="1500M", peak="", exi
 
 def test_slurm_reasons_are_said_in_words_with_the_limit_that_was_hit(tmp_path):
     log = tmp_path / "61.log"
-    log.write_text("...\nslurmstepd-vm: error: *** STEP 61.0 ON vm CANCELLED AT 2026-11-25T14:04:45 DUE TO TIME LIMIT ***\n")
+    log.write_text("...\nslurmstepd-vm: error: *** STEP 61.0 ON vm CANCELLED AT 2026-11-25T14:04:45 DUE TO TIME "
+                   "LIMIT ***\n")
     assert slurm_reason(_rows("TIMEOUT"), log) == (
         "SLURM job 61: TIMEOUT after 00:01:20, killed at its time limit 00:01:00; SLURM: "
         "'slurmstepd-vm: error: *** STEP 61.0 ON vm CANCELLED AT 2026-11-25T14:04:45 DUE TO TIME LIMIT ***'")
@@ -98,7 +99,7 @@ def test_the_fail_is_merged_into_the_verdict_files_a_report_already_wrote_and_a_
     engine_log = tmp_path / "logs" / "steel" / "esys.log"
     engine_log.parent.mkdir(parents=True)
     engine_log.write_text("INFO steel: 4 runs of build esys\nTraceback (most recent call last):\n"
-                          "  File x\npostprocess.dump_file.DumpError: a dump is broken\n")
+                          "  File x\nrecords.dump_file.DumpError: a dump is broken\n")
     log = tmp_path / "snakemake.log"
     log.write_text(LOG.replace("logs/steel/esys.log", str(engine_log)).replace("external_jobid: 41\n", ""))
     failures = record_failed_jobs([str(log)], results, {"run_engine": ["results/{case}/{build}/manifest.json"]},

@@ -13,7 +13,7 @@ import pytest
 
 from postprocess.gate import gate_checks, junit_xml, verdict_of, write_junit, write_verdict
 from postprocess.verdict_files import VERDICT_FILES, withdraw_verdict
-from postprocess.report import write_report
+from postprocess.report import ReportInputs, write_report
 
 TOL = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
 RUNGS = (250, 500, 1000, 2000)
@@ -82,7 +82,8 @@ def test_an_error_within_the_tolerance_but_not_its_resolution_is_not_a_pass():
     checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere")), no_failures(), TOL)
     eps = checks[checks.quantity == "eps"]
     assert not eps["pass"].any()
-    assert eps.reason.str.startswith("not resolved at this tolerance: 8.000e-07 with resolution 5.0e-07 straddles 1e-06").all()
+    assert eps.reason.str.startswith("not resolved at this tolerance: 8.000e-07 with resolution 5.0e-07 "
+                                     "straddles 1e-06").all()
 
 
 def test_a_misaligned_ladder_fails_its_checks_with_the_reason_and_is_not_judged_by_its_number():
@@ -121,7 +122,8 @@ def test_a_planned_run_with_no_result_fails_and_a_group_with_none_fails():
                                                        ("c", "yade", "viscoelastic_clipped", "sphere-plane")),
                          no_failures(), TOL)
     lammps = checks[checks.engine == "lammps"]
-    assert not lammps["pass"].any() and lammps.reason.str.contains(r"1 of 2 planned ladders have no result \(first: b\)").all()
+    assert (not lammps["pass"].any()
+            and lammps.reason.str.contains(r"1 of 2 planned ladders have no result \(first: b\)").all())
     yade = checks[checks.engine == "yade"]
     assert len(yade) == 3 and not yade["pass"].any() and yade.max_abs_error.isna().all()
 
@@ -167,7 +169,7 @@ def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
                                      ("d", "lammps", "default", "sphere-sphere")),
                          pd.DataFrame(failed_runs), TOL)
     verdict = verdict_of(checks, "0" * 64, TOL)
-    write_report(table, checks, verdict, tmp_path, failed_runs=failed_runs)
+    write_report(ReportInputs(table, checks, verdict, failed_runs=failed_runs), tmp_path)
     text = (tmp_path / "report.md").read_text()
     first = [line for line in text.splitlines() if line.strip()][1]
     assert first.startswith("**Verdict: FAIL** — 4 of 6 gated checks")

@@ -18,7 +18,7 @@ import pytest
 
 from engines.ladder import (DISSIPATIVE_POWERS, ELASTIC_POWERS, START_PHASE, aligned_time_step, extrapolate,
                             phase_offset, powers_of, richardson_weights, rung_factor)
-from postprocess.collision_metrics import collision_metrics
+from records.collision_metrics import collision_metrics
 from postprocess.comparison import comparison_rows
 from postprocess.extrapolation import extrapolated_rows
 from reference import HERTZ_TAU, solve_collision

@@ -129,7 +129,8 @@ def test_elastic_law_runs_hertz_alone_and_unavailable_laws_are_listed_with_their
         assert r.reference["eps_x0"] == pytest.approx(1.0, abs=1e-15)
         assert r.reference["tau_0"] == pytest.approx(2.9432751843247, rel=1e-13)  # Hertz: 2 * 1.4716...
         # the same velocities as the viscoelastic runs of its geometry
-        assert r.velocity in {v.velocity for v in p.runs if v.law == "viscoelastic" and v.pair.geometry == r.pair.geometry}
+        assert r.velocity in {v.velocity for v in p.runs
+                              if v.law == "viscoelastic" and v.pair.geometry == r.pair.geometry}
     assert {(r.build, r.law) for r in p.runs if r.build == "yade"} == {("yade", "elastic"), ("yade", "default")}
     assert sorted((n["build"], n["law"], n["geometry"]) for n in p.not_available) == [
         ("yade", law, g) for law in ("viscoelastic", "viscoelastic_clipped") for g in ("sphere-plane", "sphere-sphere")]

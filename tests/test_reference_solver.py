@@ -7,7 +7,7 @@ from scipy.integrate import solve_ivp
 
 from reference import (FIRST_ORDER, FIRST_ORDER_INTEGRAL, HERTZ_TAU, K_PREFACTOR, CollisionTable,
                        collision_trajectory, solve_collision, solve_collisions)
-from reference import collision_ode_scipy
+import scipy_solver
 from independent_solver import solve_high_precision
 
 KEYS = ("x_max", "tau_f", "eps_F0", "tau_0", "eps_x0")
@@ -190,7 +190,7 @@ def test_agrees_with_the_dop853_solver_on_a_dense_grid(dense_grid):
     by field, to 1e-12 relative; fields that are exactly 0 (the dissipation at K = 0) in one
     must be exactly 0 in the other."""
     new = solve_collisions(dense_grid)
-    old = collision_ode_scipy.solve_collisions(dense_grid)
+    old = scipy_solver.solve_collisions(dense_grid)
     assert np.array_equal(new.K, dense_grid)
     for name in COMPARED:
         a, b = getattr(new, name), getattr(old, name)
@@ -205,7 +205,7 @@ def test_agrees_with_the_dop853_solver_for_negative_K():
     """K < 0 (energy gain, used for the Taylor fit around 0): x0 quantities agree, F0 is NaN."""
     K = np.array([-0.5, -0.3, -1e-4])
     new = solve_collisions(K, allow_negative=True)
-    old = collision_ode_scipy.solve_collisions(K, allow_negative=True)
+    old = scipy_solver.solve_collisions(K, allow_negative=True)
     for name in ("x_max", "tau_max", "tau_0", "eps_x0", "dissipated_at_max", "dissipated_x0",
                  "force_max", "tau_force_max", "x_force_max"):
         np.testing.assert_allclose(getattr(new, name), getattr(old, name), rtol=1e-12, err_msg=name)
@@ -230,7 +230,7 @@ def test_trajectory_agrees_with_the_dop853_trajectory():
     from scipy.interpolate import CubicHermiteSpline
     K = 0.8
     new = collision_trajectory(K, points_per_phase=2000)
-    old = collision_ode_scipy.collision_trajectory(K, points_per_phase=200)
+    old = scipy_solver.collision_trajectory(K, points_per_phase=200)
     keep = np.concatenate([[True], np.diff(new["tau"]) > 0])
     x_of_tau = CubicHermiteSpline(new["tau"][keep], new["x"][keep], new["v"][keep])
     inside = (old["tau"] > 0.05) & (old["tau"] < new["tau"][-1] - 0.05)
@@ -267,9 +267,11 @@ def test_lane_step_sizes_and_step_ends_are_the_scalar_ones_to_the_bit(kind):
     for l, K in enumerate(Ks):
         if kind == "u":  # (v, tau, D) at u; lane 0 at u = 0, the start of phase A
             w = 0.0 if l == 0 else rng.uniform(0.1, 0.8)
-            y = np.array([1.0, 0.0, 0.0]) if l == 0 else np.array([rng.uniform(0.2, 0.9), rng.uniform(0.1, 1.0), rng.uniform(0, 0.3) * K])
+            y = np.array([1.0, 0.0, 0.0]) if l == 0 else np.array([rng.uniform(0.2, 0.9), rng.uniform(0.1, 1.0),
+                                                                   rng.uniform(0, 0.3) * K])
         else:  # (x, v, D) at tau
-            w, y = rng.uniform(0.5, 2.0), np.array([rng.uniform(0.3, 0.9), rng.uniform(-0.5, 0.5), rng.uniform(0, 0.3) * K])
+            w, y = rng.uniform(0.5, 2.0), np.array([rng.uniform(0.3, 0.9), rng.uniform(-0.5, 0.5),
+                                                    rng.uniform(0, 0.3) * K])
         if l == 7:
             y[1] = np.nan  # a failed lane: its neighbours must not notice
         states.append((w, y))

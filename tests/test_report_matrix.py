@@ -202,12 +202,14 @@ def test_html_table_rows_columns_classes_and_titles(study):
     fail = by_build["lammps-2025"][2]
     assert fail[2] == "✘ 6.0e-04 (T)"  # the text says it, not the colour alone
     assert fail[1]["title"].startswith("FAIL — T: 6.000e-04 > 0.0005 (case steel, K = 0.3)")
-    assert "largest extrapolated error: T 6.000e-04 (tolerance 0.0005) in run lammps-2025-ve-sphere-plane-2" in fail[1]["title"]
+    assert ("largest extrapolated error: T 6.000e-04 (tolerance 0.0005) in run lammps-2025-ve-sphere-plane-2"
+            in fail[1]["title"])
     na = by_build["yade-2023"][4]
     assert na[2] == "n/a1" and NA_REASON in na[1]["title"]  # "n/a" and its note's number (<sup>)
     ok = by_build["lammps-2021"][0]
     assert ok[2] == "✔ 4.0e-05"
-    assert ok[1]["title"].startswith("pass — largest extrapolated error: eps 4.000e-05 (tolerance 0.0005) in run lammps-2021-ve-")
+    assert ok[1]["title"].startswith("pass — largest extrapolated error: eps 4.000e-05 (tolerance 0.0005) "
+                                     "in run lammps-2021-ve-")
 
 
 def test_default_law_is_compared_in_its_own_matrix(study):
@@ -224,18 +226,19 @@ def test_default_law_is_compared_in_its_own_matrix(study):
 
 
 def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
-    from postprocess.report import write_report
+    from postprocess.report import ReportInputs, write_report
 
     table, checks, not_available = study
     verdict = verdict_of(checks, "0" * 64, TOL)
-    write_report(table, checks, verdict, tmp_path, builds=BUILDS, not_available=not_available,
-                 code_notes={"yade": ("a plane is a huge box",)})
+    write_report(ReportInputs(table, checks, verdict, builds=BUILDS, not_available=not_available,
+                              code_notes={"yade": ("a plane is a huge box",)}), tmp_path)
     md = (tmp_path / "report.md").read_text()
     assert "@@" not in md and "| **lammps-2025** |" in md and "[checks.csv](checks.csv)" in md
     assert f"1. yade: {NA_REASON}" in md and "a plane is a huge box" in md
     drift = md.split("## Out-of-the-box laws")[1].split("`restitution` is")[1]
     rows = [line.split("|")[1:3] for line in drift.splitlines() if line.startswith("| ") and "sphere-" in line]
-    assert [(b.strip(), g.strip()) for b, g in rows] == [(b, g) for b in BUILDS for g in ("sphere-sphere", "sphere-plane")]
+    assert [(b.strip(), g.strip()) for b, g in rows] == [(b, g) for b in BUILDS
+                                                         for g in ("sphere-sphere", "sphere-plane")]
     html = (tmp_path / "report.html").read_text()
     tables = parse_tables(html)
     matrices = [t for t in tables if t["class"] == "matrix"]
@@ -256,19 +259,23 @@ def test_report_drawn_in_two_processes_is_the_same_report(study, tmp_path):
     texts = {}
     for workers in (1, 2):
         out = tmp_path / str(workers)
-        report.write_report(table, checks, verdict, out, builds=BUILDS, not_available=not_available, workers=workers)
-        texts[workers] = [re.sub(r"Generated [^`]*UTC", "", (out / name).read_text()) for name in ("report.md", "report.html")]
+        report.write_report(report.ReportInputs(table, checks, verdict, builds=BUILDS, not_available=not_available),
+                            out, workers=workers)
+        texts[workers] = [re.sub(r"Generated [^`]*UTC", "", (out / name).read_text())
+                          for name in ("report.md", "report.html")]
         assert sorted(p.name for p in (out / "plots").iterdir()) == ["default_laws.png", "errors.png", "ratios_F0.png",
                                                                      "ratios_x0.png"]
     assert texts[1] == texts[2]
-    wait = report.start_drawing([(report.plot_errors, (table, TOL, tmp_path / "e.png", BUILDS)),
-                                 (report.plot_errors, (table, {}, tmp_path / "f.png", BUILDS))], workers=2)
+    from postprocess.report_plots import plot_errors, start_drawing
+
+    wait = start_drawing([(plot_errors, (table, TOL, tmp_path / "e.png", BUILDS)),
+                          (plot_errors, (table, {}, tmp_path / "f.png", BUILDS))], workers=2)
     with pytest.raises(KeyError):  # no tolerance for T: the second plot fails in its process
         wait()
 
 
 def test_every_build_gets_its_own_marker_and_colour_in_config_order():
-    from postprocess.report import build_styles
+    from postprocess.report_plots import build_styles
 
     builds = ["liggghts-3.8", "yade-2023", "lammps-2021", "lammps-2025", "esys-2.3.5", "kratos-10.4"]
     styles = build_styles(builds)
@@ -283,19 +290,21 @@ def test_every_build_gets_its_own_marker_and_colour_in_config_order():
 
 
 def test_report_in_a_browser(study, tmp_path):
-    """A development check, skipped without Chromium: the report renders in a headless browser
-    and the browser's DOM holds the matrix with one row per build."""
+    """The report renders in a headless browser (Debian's chromium; CI installs it) and the
+    browser's DOM holds the matrix with one row per build."""
     import shutil
     import subprocess
 
-    from postprocess.report import write_report
+    from postprocess.report import ReportInputs, write_report
+
+    from engine_cases import missing
 
     browser = shutil.which("chromium") or shutil.which("chromium-browser")
     if browser is None:
-        pytest.skip("chromium is not installed (Debian: apt-get install chromium); a development check only")
+        missing("chromium is not installed; install it with: sudo apt-get install chromium")
     table, checks, not_available = study
-    write_report(table, checks, verdict_of(checks, "0" * 64, TOL), tmp_path, builds=BUILDS,
-                 not_available=not_available)
+    write_report(ReportInputs(table, checks, verdict_of(checks, "0" * 64, TOL), builds=BUILDS,
+                              not_available=not_available), tmp_path)
     out = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                           "--dump-dom", (tmp_path / "report.html").as_uri()], capture_output=True, text=True,
                          timeout=120)

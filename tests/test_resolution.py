@@ -70,9 +70,11 @@ sys.exit(subprocess.call([REAL, *args]))
 '''
 EDITS = {
     "lammps-kn": ("lammps", "lmp", "kn x (1 + 1e-5) in every pair_coeff / fix wall/gran",
-                  'if "-in" in args:\n    edit(args[args.index("-in") + 1], r\'(variable model index "hertz )(\\S+)\')'),
+                  'if "-in" in args:\n'
+                  '    edit(args[args.index("-in") + 1], r\'(variable model index "hertz )(\\S+)\')'),
     "lammps-eta": ("lammps", "lmp", "eta_n0 x (1 + 1e-5)",
-                   'if "-in" in args:\n    edit(args[args.index("-in") + 1], r\'(variable model index "hertz \\S+ )(\\S+)\')'),
+                   'if "-in" in args:\n'
+                   '    edit(args[args.index("-in") + 1], r\'(variable model index "hertz \\S+ )(\\S+)\')'),
     "liggghts-kn": ("liggghts", "liggghts", "kn x (1 + 1e-5)",
                     'if "-in" in args:\n    edit(args[args.index("-in") + 1], r\'(variable kn index ")([^"]+)\')'),
     "yade-c": ("yade", "yade", "the damping coefficient c x (1 + 1e-5)",
@@ -89,9 +91,11 @@ EDITS = {
                        '    for k, block in enumerate(blocks):\n'
                        '        if "-dt500" not in block.split("\\n", 1)[0]:\n'
                        '            continue\n'
-                       '        value = lambda name: float(re.search(\'variable %s index "([^"]+)"\' % name, block).group(1))\n'
+                       '        value = lambda name: float(re.search(\'variable %s index "([^"]+)"\' % name, '
+                       'block).group(1))\n'
                        '        x1 = value("x1") - 0.25 * value("v1") * value("dt")\n'
-                       '        blocks[k] = re.sub(\'(variable x1 index ")[^"]+\', lambda m: m.group(1) + repr(x1), block)\n'
+                       '        blocks[k] = re.sub(\'(variable x1 index ")[^"]+\', '
+                       'lambda m: m.group(1) + repr(x1), block)\n'
                        '    open(path, "w").write(\'print "RUN \'.join(blocks))'),
 }
 CLEAN = {"lammps": ("lammps", "lmp"), "liggghts": ("liggghts", "liggghts"), "yade": ("yade", "yade")}

@@ -116,7 +116,8 @@ def test_jobs_slurm_kills_at_their_time_or_memory_limit_fail_the_gate_naming_eac
     assert not (project / "results" / "gate.txt").exists()
     root = ET.parse(project / "results" / "junit.xml").getroot()
     failing = {(c.get("classname"), c.get("name")) for c in root.iter("testcase") if c.find("failure") is not None}
-    assert failing == {("workflow.run_engine", "case=steel, build=hang"), ("workflow.run_engine", "case=steel, build=hog")}
+    assert failing == {("workflow.run_engine", "case=steel, build=hang"),
+                       ("workflow.run_engine", "case=steel, build=hog")}
     head = (project / "results" / "report.md").read_text()
     assert "## The workflow did not finish: FAIL" in head and "run_engine (case steel, build hang)" in head
     assert "FAIL: 2 job(s) did not finish" in out
@@ -130,7 +131,6 @@ def test_a_cancelled_job_fails_the_run_and_a_rerun_ends_in_the_same_pass_and_row
     hold = tmp_path / "hold"
     hold.write_text("the wrapper waits while this file exists\n")
     env = {**faulty_lammps(tmp_path, "hold"), "SLURM_CONF": cluster["SLURM_CONF"], "HOLD_FILE": str(hold)}
-    since = now()
     proc = start_workflow(project, "all", "--retries", "0", *args, env=env)
     try:
         engine_job = wait_for(lambda: [j for j in queued_jobs_of(project, cluster) if j["State"] == "RUNNING"

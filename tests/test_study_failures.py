@@ -3,7 +3,8 @@
 Each test runs the workflow on a copy of the project with one small case (steel spheres, K = 0.1)
 and, where it needs a faulty engine, a wrapper named `lmp` put first on PATH: it runs the real
 LAMMPS and then spoils what it wrote (a collision 1 % slower: times x 1.01, velocities / 1.01;
-the out-of-the-box records deleted), or crashes, or hangs. The tests check what a user and a CI see: the exit status, the verdict at the
+the out-of-the-box records deleted), or crashes, or hangs. The tests check what a user and a CI see: the exit \
+status, the verdict at the
 top of the report, the JUnit XML, and that nothing saying PASS survives a failed or killed rerun.
 """
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from engine_cases import require_engine
+from engine_cases import require_default_builds, require_engine
 from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -24,11 +24,14 @@ def snakemake(*args, cwd=ROOT):
 
 @pytest.fixture
 def project(tmp_path):
-    """A copy of the workflow (Snakefile, config, scripts, decks, the steel case) in tmp_path."""
+    """A copy of the workflow (Snakefile, config, scripts, decks, the steel case) in tmp_path.
+    Its default builds must be installed: parsing the workflow asks each for its version."""
+    require_default_builds()
     return copy_workflow(tmp_path)
 
 
 def test_dry_run_plans_every_case_and_engine():
+    require_default_builds()
     out = snakemake("-n", "all", "--forceall")
     assert out.returncode == 0, out.stderr
     cases = len(list((ROOT / "cases").glob("*.yaml")))
@@ -57,6 +60,7 @@ def test_bad_config_is_refused_naming_the_key(project):
 
 
 def test_slurm_profile_dry_run_gives_every_engine_job_its_limits():
+    require_default_builds()
     if not SLURM_SNAKEMAKE.exists():
         pytest.skip("Snakemake's SLURM executor plugin is not installed; install it with: make slurm-venv")
     out = subprocess.run([str(SLURM_SNAKEMAKE), "-n", "--profile", "profiles/slurm", "all", "--forceall"], cwd=ROOT,
@@ -74,14 +78,15 @@ def test_slurm_profile_dry_run_gives_every_engine_job_its_limits():
 def test_one_case_for_real_then_only_changes_rerun(project):
     require_engine("liggghts", "liggghts")
     require_engine("yade", "yade")
-    args = ["--config", "K_grid=[0.1]", "laws=[viscoelastic]", "builds=[{id: liggghts, code: liggghts, executable: liggghts}, {id: yade, code: yade, executable: yade}]"]
+    args = ["--config", "K_grid=[0.1]", "laws=[viscoelastic]",
+            "builds=[{id: liggghts, code: liggghts, executable: liggghts}, {id: yade, code: yade, executable: yade}]"]
     out = snakemake("-j2", "steel", *args, cwd=project)
     assert out.returncode == 0, out.stderr
     summary = (project / "results" / "steel" / "summary.csv").read_text().splitlines()
     # header + engines x geometries x (4 rungs + the ladder's limit) x criteria
     assert len(summary) == 1 + 2 * 2 * (4 + 1) * 2
     assert (project / "logs" / "steel" / "liggghts.log").exists()
-    assert (project / "benchmarks" / "steel" / "yade.tsv").exists()
+    assert (project / "logs" / "benchmarks" / "steel" / "yade.tsv").exists()
     again = snakemake("-n", "steel", *args, cwd=project)
     assert "Nothing to be done" in again.stdout, again.stdout
     case = project / "cases" / "steel.yaml"
@@ -113,7 +118,8 @@ def test_two_case_files_claiming_one_name_are_refused(project):
 
 
 def test_numbers_given_through_config_inside_lists_and_mappings_are_numbers(project):
-    ok = snakemake("-n", "all", "--config", "tolerance={T: 1e-6, A: 2.5E-4, eps: 5e-4}", "K_grid=[1e-2,0.1]", "extras=[]",
+    ok = snakemake("-n", "all", "--config", "tolerance={T: 1e-6, A: 2.5E-4, eps: 5e-4}", "K_grid=[1e-2,0.1]",
+                   "extras=[]",
                    cwd=project)
     assert ok.returncode == 0, ok.stdout + ok.stderr
     bad = snakemake("-n", "all", "--config", "tolerance={T: 1e-6 s, A: 1e-4, eps: 5e-4}", cwd=project)

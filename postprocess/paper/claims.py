@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from contact_model import CRITERIA
 from reference import FIRST_ORDER_INTEGRAL, HERTZ_TAU, K_PREFACTOR, compare_with_paper, solve_collisions
 from reference.critical import critical_dissipation
 from reference.series import hertz_ratios
@@ -52,7 +53,7 @@ def claims() -> pd.DataFrame:
                          abs(r.difference) <= r.rounding + 1e-12, tolerance="5e-5 (4 decimals)",
                          note="first order: closed form; the linear terms of Q1, Q2 vanish" if r.order == 1 else ""))
     # phi < 1 % for K <~ 0.25, eps >~ 0.78, xi <~ 39 %.
-    for criterion in ("x0", "F0"):
+    for criterion in CRITERIA:
         K1 = critical_dissipation(0.01, criterion)
         t = solve_collisions([K1])
         eps = hertz_ratios(t, criterion)["eps"][0]
@@ -71,9 +72,10 @@ def claims() -> pd.DataFrame:
                          abs(Kc / beta**0.5 - 2.5) <= 0.1, tolerance="0.1",
                          note="K_c: first K where max(phi_1, phi_2) = beta on the reference solution"))
         pref = (Kc / beta**0.5 / K_PREFACTOR) ** 5
-        rows.append(_row(f"V_c = 3.7 beta^(5/2) V_D (beta = {beta:g})", "eq. 8", 3.7, pref, "x0", abs(pref - 3.7) <= 0.1,
-                         tolerance="0.1", note=f"(2.5/alpha)^5 = {rule_prefactor():.3f}: 3.7 follows from the 2.5 rule; "
-                                               "the solver's K_c gives the computed prefactor"))
+        rows.append(_row(f"V_c = 3.7 beta^(5/2) V_D (beta = {beta:g})", "eq. 8", 3.7, pref, "x0",
+                         abs(pref - 3.7) <= 0.1, tolerance="0.1",
+                         note=f"(2.5/alpha)^5 = {rule_prefactor():.3f}: 3.7 follows from the 2.5 rule; "
+                              "the solver's K_c gives the computed prefactor"))
     # Energy lost before and after the maximum compression.
     t = solve_collisions([0.1, 1.0])
     for i, K in enumerate((0.1, 1.0)):

@@ -29,7 +29,7 @@ rule convergence_runs:
         manifest="results/convergence/{build}/manifest.json",
         runs=directory("results/convergence/{build}/runs"),
     log: "logs/convergence/{build}.log"
-    benchmark: "benchmarks/convergence/{build}.tsv"
+    benchmark: "logs/benchmarks/convergence/{build}.tsv"
     params: convergence=config["convergence"], timeout_floor_s=config["engine_timeout_floor_s"],
             build=lambda w: build_params(w.build),
             # solved here already (the priority's plan): the job need not load the kernel again

@@ -57,7 +57,7 @@ rule run_engine:
         manifest="results/{case}/{build}/manifest.json",
         runs=directory("results/{case}/{build}/runs"),
     log: "logs/{case}/{build}.log"
-    benchmark: "benchmarks/{case}/{build}.tsv"
+    benchmark: "logs/benchmarks/{case}/{build}.tsv"
     # The plan from the workflow (what the plan rule writes to plan.json), not the file: the job
     # is then ready when the study starts (ALL_CORES_FIRST). A changed plan changes these params,
     # and Snakemake reruns the job.

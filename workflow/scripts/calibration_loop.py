@@ -8,7 +8,7 @@ from common import start_rule
 from calibration.case_calibration import case_fits
 from calibration.outputs import loop_table, plot_fit
 from contact_model import load_case
-from postprocess.run_manifest import manifest_dumps
+from records.run_manifest import manifest_dumps
 
 log = start_rule(snakemake, "results/calibration")
 case = load_case(snakemake.input.case)

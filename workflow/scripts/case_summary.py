@@ -17,7 +17,7 @@ from common import start_rule
 from postprocess.comparison import comparison_rows
 from postprocess.extrapolation import extrapolated_rows
 from postprocess.map_reference import map_errors
-from postprocess.run_manifest import manifest_dumps
+from records.run_manifest import manifest_dumps
 
 log = start_rule(snakemake)
 results = Path(snakemake.output[0]).parent.parent
@@ -33,9 +33,11 @@ for path, meta, columns, m in loaded:
                      **{f"map_err_{q}": e for q, e in on_map.get(row["criterion"], {}).items()}})
 # With no dump at all (every run failed) the table still has its columns: the gate then fails
 # every planned check by name instead of the summary rule failing on an empty file.
-table = pd.DataFrame(rows) if rows else pd.DataFrame(columns=["case", "build", "engine", "engine_version", "law", "geometry",
+table = pd.DataFrame(rows) if rows else pd.DataFrame(columns=["case", "build", "engine", "engine_version", "law",
+                                                               "geometry",
                                                                "criterion", "V", "K", "dt", "err_T", "err_A", "err_eps",
                                                                "run", "dump", "ladder"])
 table = pd.concat([table, extrapolated_rows(table)], ignore_index=True)
 table.to_csv(snakemake.output[0], index=False, float_format="%.12g")
-log.info("%d rows from %d dumps (%d of them ladder limits, dt = 0)", len(table), len(loaded), int((table.dt == 0).sum()))
+log.info("%d rows from %d dumps (%d of them ladder limits, dt = 0)", len(table), len(loaded),
+         int((table.dt == 0).sum()))

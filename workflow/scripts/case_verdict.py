@@ -10,8 +10,8 @@ import pandas as pd
 
 from common import log_to
 from postprocess.gate import gate_checks, verdict_of, write_junit, write_verdict
-from postprocess.verdict_files import file_sha256
-from postprocess.run_manifest import read_manifest
+from records.files import file_sha256
+from records.run_manifest import read_manifest
 
 log = log_to(snakemake.log[0])
 tolerance = snakemake.params.tolerance

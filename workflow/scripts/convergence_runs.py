@@ -5,7 +5,7 @@ from contact_model import load_case
 from engines import run_sweep
 from engines.builds import Build
 from engines.plan import plan_at_velocity
-from postprocess.run_manifest import write_manifest
+from records.run_manifest import write_manifest
 
 log = start_rule(snakemake)
 c = snakemake.params.convergence

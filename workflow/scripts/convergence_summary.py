@@ -15,7 +15,7 @@ from common import start_rule  # noqa: E402
 from contact_model import load_case  # noqa: E402
 from postprocess.comparison import comparison_rows  # noqa: E402
 from postprocess.convergence import build_spread, convergence_table, largest_dt_table  # noqa: E402
-from postprocess.run_manifest import manifest_dumps  # noqa: E402
+from records.run_manifest import manifest_dumps  # noqa: E402
 
 log = start_rule(snakemake)
 case = load_case(snakemake.params.case)
@@ -24,7 +24,8 @@ for manifest in snakemake.input.manifests:
     for _, meta, _, m in manifest_dumps(manifest):
         T_e[meta["geometry"]] = meta["T_e"]  # one velocity: one Hertz time per geometry
         for r in comparison_rows(meta, m):
-            rows.append({k: r[k] for k in ("build", "engine", "law", "geometry", "criterion", "err_T", "err_A", "err_eps",
+            rows.append({k: r[k] for k in ("build", "engine", "law", "geometry", "criterion", "err_T", "err_A",
+                                           "err_eps",
                                            "h", "time_step_factor")} | {"K": round(meta["K"], 12)})
 errors = pd.DataFrame(rows)
 rayleigh = {p.geometry: p.rayleigh_time() / T_e[p.geometry] for p in case.pairs if p.geometry in T_e}
@@ -51,7 +52,8 @@ to_TR = rayleigh.get("sphere-plane", next(iter(rayleigh.values())))
 for i, K in enumerate(Ks):
     for j, q in enumerate(("T", "A", "eps")):
         ax = axes[i, j]
-        for (build, law, geometry, criterion), g in errors[errors.K == K].groupby(["build", "law", "geometry", "criterion"]):
+        for (build, law, geometry, criterion), g in errors[errors.K == K].groupby(["build", "law", "geometry",
+                                                                                   "criterion"]):
             g = g.sort_values("h")
             ax.loglog(g.h, np.abs(g[f"err_{q}"]).clip(lower=1e-13), lines[geometry],
                       marker=markers.get((law, criterion), "x"), ms=sizes[build], mfc="none", mew=1.1, lw=0.9,

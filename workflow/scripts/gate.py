@@ -8,7 +8,7 @@ import json
 import sys
 
 from common import log_to
-from postprocess.verdict_files import file_sha256, write_atomically
+from records.files import file_sha256, write_atomically
 
 log = log_to(snakemake.log[0])
 verdict = json.load(open(snakemake.input.verdict))
@@ -21,6 +21,7 @@ if not verdict["pass"]:
                f"{snakemake.params.report}):\n  " + "\n  ".join(verdict["failures"]))
     log.error(message)
     sys.exit(message)
-write_atomically(snakemake.output[0], f"PASS: {verdict['checked']} engine build x law x geometry x criterion x quantity "
+write_atomically(snakemake.output[0], f"PASS: {verdict['checked']} engine build x law x geometry x criterion "
+                                      "x quantity "
                                       f"checks within tolerance (summary sha256 {summary_sha})\n")
 log.info("PASS")

@@ -5,7 +5,7 @@ from engines.builds import Build
 from engines.lammps import run_regression_cases
 from engines.plan import rungs_of
 from postprocess.regressions import regression_table
-from postprocess.run_manifest import write_manifest
+from records.run_manifest import write_manifest
 
 log = start_rule(snakemake)
 build = Build(**snakemake.params.build)

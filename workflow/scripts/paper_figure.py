@@ -4,7 +4,7 @@ Figs. 1 and 5 need no engine: rule paper_reference)."""
 import pandas as pd
 
 from common import start_rule
-from postprocess.run_manifest import manifest_dumps
+from records.run_manifest import manifest_dumps
 from postprocess.paper import figures
 
 log = start_rule(snakemake)

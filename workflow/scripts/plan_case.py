@@ -8,7 +8,7 @@ the engines cannot run before any job): this job only writes it, so it imports n
 import json
 
 from common import start_rule
-from postprocess.verdict_files import write_atomically
+from records.files import write_atomically
 
 log = start_rule(snakemake)
 listing = snakemake.params.listing

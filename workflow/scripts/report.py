@@ -12,9 +12,9 @@ import pandas as pd
 from common import start_rule
 from engines.codes import CODES
 from postprocess.gate import gate_checks, regression_checks, verdict_of, write_junit, write_verdict
-from postprocess.verdict_files import file_sha256
-from postprocess.report import write_report
-from postprocess.run_manifest import read_manifest
+from postprocess.report import ReportInputs, write_report
+from records.files import file_sha256
+from records.run_manifest import read_manifest
 
 log = start_rule(snakemake)
 tolerance = snakemake.params.tolerance
@@ -45,9 +45,9 @@ if "calibration" in snakemake.input.keys():
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
 out = Path(snakemake.output.md).parent
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
-write_report(table, checks, verdict, out, series, timing, not_run, failed_runs, builds=builds,
-             not_available=not_available, code_notes=code_notes, workers=snakemake.threads,
-             ladder=snakemake.params.ladder, **optional)
+write_report(ReportInputs(table, checks, verdict, series, timing, not_run, failed_runs, builds=builds,
+                          not_available=not_available, code_notes=code_notes, ladder=snakemake.params.ladder,
+                          **optional), out, workers=snakemake.threads)
 write_junit(checks, snakemake.output.junit)
 write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
 log.info("verdict: %s (%d checks, %d failing)", verdict["verdict"], verdict["checked"], verdict["failed"])

@@ -8,10 +8,11 @@ engine stops the rule at once (that is set-up, not a verdict).
 """
 
 from common import start_rule
-from engines import GATED_LAWS, run_sweep
+from contact_model import GATED_LAWS
+from engines import run_sweep
 from engines.builds import Build
 from engines.plan import runs_from_listing
-from postprocess.run_manifest import write_manifest
+from records.run_manifest import write_manifest
 
 log = start_rule(snakemake)
 s = snakemake.params.settings

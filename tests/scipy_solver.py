@@ -1,8 +1,9 @@
 r"""The first reference solver (scipy's DOP853), kept as the slow cross-check of `collision_ode`.
 
 `reference.collision_ode` solves the same four phases with a compiled Taylor method; this module
-is the solver it replaced, unchanged apart from this paragraph, so that tests and the benchmark
+is the solver it replaced, unchanged apart from this paragraph and its import, so that the tests
 can compare the two (same API: `solve_collisions`, `solve_collision`, `collision_trajectory`).
+Only the tests use it, so it lives with them.
 
 High-accuracy solution of the dimensionless viscoelastic Hertz collision.
 
@@ -54,7 +55,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize.elementwise import find_root
 
-from .collision_ode import CollisionTable  # the same result type as the compiled solver
+from reference.collision_ode import CollisionTable  # the same result type as the compiled solver
 
 #: Tolerances handed to DOP853. The stacked systems use an RMS error norm over all K of a
 #: batch, so one component may carry sqrt(batch) times more error than rtol: 1e-13 keeps the

@@ -1,0 +1,27 @@
+"""The contact laws the study runs and the end-of-collision criteria it reads them with.
+
+A law is a force model an engine is told to run:
+
+- `viscoelastic`: F = -(k delta^{3/2} + A k delta^{1/2} d(delta)/dt), the Hertz elastic force plus
+  the Kuwabara-Kono / Brilliantov dissipative force, with the attractive tail kept (negative F
+  allowed near the end of contact);
+- `viscoelastic_clipped`: the same force clipped at zero (F = max(F, 0));
+- `elastic`: Hertz alone (A = 0);
+- `default`: the engine's out-of-the-box law told the matched restitution (compared, not gated).
+
+A criterion is where a collision ends (reference.series): `x0` when the overlap returns to zero,
+`F0` when the force does. The geometries are `contact_pair.GEOMETRIES`.
+"""
+
+from reference.series import CRITERIA
+
+LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic", "default")
+#: The laws the study validates against tolerances (the model under test); 'default' is compared only.
+GATED_LAWS = ("viscoelastic", "viscoelastic_clipped", "elastic")
+#: The end-of-collision criteria a run of each gated law stands for (`engines.RunSpec.represents`;
+#: the default law's depends on the engine: `engines.run_spec.DEFAULT_LAW_CRITERION`).
+LAW_CRITERIA = {"viscoelastic": ("x0", "F0"),  # the tail is kept: one trajectory, both ends
+                "viscoelastic_clipped": ("F0",),
+                "elastic": ("x0",)}  # no tail: x0 and F0 coincide
+
+__all__ = ["CRITERIA", "GATED_LAWS", "LAWS", "LAW_CRITERIA"]

@@ -1,0 +1,111 @@
+"""Quantities written with their unit ("109 GPa", "6.7e5 P"), read strictly into SI.
+
+A quantity is exactly one plain number, one space and a unit that pint reads as a unit alone;
+comma decimals, digit groups, a second number, an expression, a dimensionless factor (pi,
+percent) or any other text is refused, and so is a number beyond double precision. The field's
+name picks its dimension (`DIMENSIONS`). Used by the case files and the measurement files; every
+refusal is a `CaseError` naming the file and the field.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+
+@functools.lru_cache(maxsize=None)
+def units():
+    """pint's unit registry, built on first use: building it (and importing pint) takes about
+    half a second, which every workflow rule that merely imports contact_model would pay.
+    pint keeps its parsed definitions in the user's cache folder (`cache_folder=":auto:"`):
+    the registry then builds in 0.03 s instead of 0.3 s, at every start of the workflow."""
+    import pint
+
+    try:
+        return pint.UnitRegistry(cache_folder=":auto:")
+    except OSError:  # no writable cache folder (e.g. a read-only home): parse the definitions
+        return pint.UnitRegistry()
+
+# field -> (pint dimensionality, SI unit)
+DIMENSIONS = {
+    "effective_modulus": ("[pressure]", "Pa"),
+    "young": ("[pressure]", "Pa"),
+    "viscosity": ("[pressure] * [time]", "Pa*s"),
+    "radius": ("[length]", "m"),
+    "density": ("[mass] / [length] ** 3", "kg/m^3"),
+    "velocity": ("[length] / [time]", "m/s"),
+}
+
+#: One plain decimal number (ASCII digits only: Python's float() would also take other
+#: scripts' digits and underscores).
+NUMBER = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+#: A unit: names (letters, no digits) with optional integer exponents (^2, **-3), joined by
+#: '*', '/' or a space. No parentheses, no numbers but exponents: "GPa 2" or "m2" is refused.
+_FACTOR = r"[^\W\d]+(?:(?:\^|\*\*)[+-]?[0-9]+)?"
+UNIT = rf"{_FACTOR}(?:(?: ?[*/] ?| ){_FACTOR})*"
+QUANTITY = re.compile(rf"({NUMBER}) ({UNIT})")
+
+class CaseError(ValueError):
+    """An input file (a case file, or a measurement file: `measurement_file.MeasurementError`)
+    that cannot be used; the message names the file and the field."""
+
+    def __init__(self, path, field_name: str, problem: str):
+        self.path, self.field, self.problem = str(path), field_name, problem
+        super().__init__(f"{path}: field '{field_name}': {problem}")
+
+
+def _dimension(name: str) -> tuple[str, str]:
+    """(dimensionality, SI unit) of a field path such as 'bodies[1].young' or 'impact.velocity[0]'."""
+    return DIMENSIONS[name.split(".")[-1].split("[")[0]]
+
+
+def not_a_quantity(value, name: str) -> str:
+    """The problem with a value of field `name` that is not a quantity string at all."""
+    si_unit = _dimension(name)[1]
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return f"{value!r} has no unit; write it as e.g. '{value} {si_unit}'"
+    return f"expected a quantity with a unit, e.g. '1 {si_unit}', got {value!r}"
+
+
+def quantity(value, name: str, path) -> float:
+    """Convert a '<number> <unit>' string to SI for field `name` (a path such as 'radius' or
+    'bodies[0].young'; its last name picks the dimension). Strict: exactly one plain number,
+    one space, one unit that pint reads as a unit alone; the result must be finite."""
+    dimension, si_unit = _dimension(name)
+    if not isinstance(value, str):
+        raise CaseError(path, name, not_a_quantity(value, name))
+    match = QUANTITY.fullmatch(value)
+    if not match:
+        raise CaseError(path, name, f"cannot read {value!r} as a quantity: write one plain number, one space "
+                                    f"and a unit, e.g. '1.5 {si_unit}' (no comma decimals, digit groups, "
+                                    f"second numbers, expressions or other text)")
+    number, unit_text = match.groups()
+    x = float(number)
+    if not math.isfinite(x):
+        raise CaseError(path, name, f"the number {number} in {value!r} is beyond double precision")
+    if x == 0 and any(c in "123456789" for c in re.split("[eE]", number)[0]):
+        raise CaseError(path, name, f"the number {number} in {value!r} underflows to 0 in double precision")
+    try:  # pint parses user text: any of its exceptions means the unit cannot be read
+        unit = units().parse_units(unit_text)
+        factors = [units().Unit(u) for u in unit._units]
+    except Exception as err:  # noqa: BLE001
+        raise CaseError(path, name, f"cannot read the unit {unit_text!r} of {value!r} ({type(err).__name__}: {err})")
+    plain = [str(f) for f in factors if f.dimensionless]
+    if plain:  # 'pi', 'percent', 'radian' would silently scale the number
+        raise CaseError(path, name, f"cannot read {value!r}: {plain[0]!r} is a dimensionless factor, not a unit")
+    if unit.dimensionless:
+        raise CaseError(path, name, f"{value!r} has no unit; expected a {dimension} such as '{si_unit}'")
+    try:
+        q = units().Quantity(x, unit)
+        if not q.check(dimension):
+            raise CaseError(path, name, f"{value!r} is a {q.dimensionality}, expected a {dimension} (e.g. {si_unit})")
+        si = float(q.to(si_unit).magnitude)
+    except CaseError:
+        raise
+    except Exception as err:  # noqa: BLE001 - e.g. an offset unit (degC) or an overflow in the conversion
+        raise CaseError(path, name, f"cannot convert {value!r} to {si_unit} ({type(err).__name__}: {err})")
+    if not math.isfinite(si):
+        raise CaseError(path, name, f"{value!r} is beyond double precision in SI ({si_unit})")
+    if si == 0 and x != 0:
+        raise CaseError(path, name, f"{value!r} underflows to 0 {si_unit} in double precision")
+    return si + 0.0  # -0.0 -> 0.0
