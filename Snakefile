@@ -17,6 +17,7 @@ import re
 import sys
 from pathlib import Path
 
+from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
 configfile: "config/config.yaml"
@@ -126,8 +127,14 @@ wildcard_constraints:
     lammps_build="|".join(map(re.escape, LAMMPS_BUILDS)) or "(?!)",
     cal_case="|".join(map(re.escape, CALIBRATION_CASES)) or "(?!)",
 
-# One target per case, named as its file: `snakemake -j2 steel` runs the case and its gate.
+# Bad case files and builds, every one named with what to do, stop the workflow before any job
+# starts, with their messages alone: a WorkflowError would add the lines of the Snakefile and
+# includes it was raised in, which say nothing about the user's files.
 check_case_names(CASES, {r.name for r in workflow.rules})
+if SETUP_PROBLEMS:
+    sys.exit("\n\n".join(SETUP_PROBLEMS))
+
+# One target per case, named as its file: `snakemake -j2 steel` runs the case and its gate.
 for _case in CASES:
     rule:
         name: _case

@@ -36,6 +36,7 @@ Every error is a `CaseError` naming the file and the field.
 
 from __future__ import annotations
 
+import difflib
 import math
 import re
 from dataclasses import dataclass, field
@@ -136,8 +137,10 @@ def _schema_problem(err, data) -> tuple[str, str]:
         patterns = list(schema.get("patternProperties", {}))
         extra = sorted(str(k) for k in instance if k not in known and not any(re.search(p, str(k)) for p in patterns))
         docs = "description, note, <field>_source, <field>_note" if not where else "note, <field>_source, <field>_note"
+        close = difflib.get_close_matches(extra[0], list(known), n=1, cutoff=0.7)
+        guess = f"did you mean '{close[0]}'? " if close else "a typo? "
         return (_field(where + [extra[0]]),
-                f"unknown field (a typo?); known here: {', '.join(known)}; documentation: {docs}")
+                f"unknown field ({guess}known here: {', '.join(known)}; documentation: {docs})")
     if schema.get("x-parent"):  # an item error better said about its list
         where, instance = where[:-1], data
         for part in where:

@@ -9,6 +9,7 @@ refusal is a `CaseError` naming the file and the field.
 
 from __future__ import annotations
 
+import difflib
 import functools
 import math
 import re
@@ -35,6 +36,25 @@ DIMENSIONS = {
     "density": ("[mass] / [length] ** 3", "kg/m^3"),
     "velocity": ("[length] / [time]", "m/s"),
 }
+
+#: The units a user most likely means, per dimension: what a "did you mean" picks from.
+COMMON_UNITS = {
+    "[pressure]": ("Pa", "kPa", "MPa", "GPa", "bar", "psi"),
+    "[pressure] * [time]": ("Pa*s", "mPa*s", "P", "cP"),
+    "[length]": ("m", "cm", "mm", "um", "in"),
+    "[mass] / [length] ** 3": ("kg/m^3", "g/cm^3"),
+    "[length] / [time]": ("m/s", "cm/s", "mm/s", "km/h"),
+}
+
+
+def did_you_mean(unit_text: str, dimension: str) -> str:
+    """' (did you mean 'MPa'?)' for a unit that is a common unit of `dimension` but for its
+    letters' case ('Mpa'), or close to one ('kg/m3'); '' when none is close."""
+    options = COMMON_UNITS.get(dimension, ())
+    same = [u for u in options if u.lower() == unit_text.lower()]
+    close = same or difflib.get_close_matches(unit_text, options, n=1, cutoff=0.6)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
 
 #: One plain decimal number (ASCII digits only: Python's float() would also take other
 #: scripts' digits and underscores).
@@ -76,9 +96,11 @@ def quantity(value, name: str, path) -> float:
         raise CaseError(path, name, not_a_quantity(value, name))
     match = QUANTITY.fullmatch(value)
     if not match:
+        written = re.fullmatch(rf"\s*{NUMBER}\s*(.+?)\s*", value)  # e.g. '7800 kg/m3': its unit's spelling
         raise CaseError(path, name, f"cannot read {value!r} as a quantity: write one plain number, one space "
                                     f"and a unit, e.g. '1.5 {si_unit}' (no comma decimals, digit groups, "
-                                    f"second numbers, expressions or other text)")
+                                    f"second numbers, expressions or other text)"
+                                    f"{did_you_mean(written[1], dimension) if written else ''}")
     number, unit_text = match.groups()
     x = float(number)
     if not math.isfinite(x):
@@ -89,7 +111,8 @@ def quantity(value, name: str, path) -> float:
         unit = units().parse_units(unit_text)
         factors = [units().Unit(u) for u in unit._units]
     except Exception as err:  # noqa: BLE001
-        raise CaseError(path, name, f"cannot read the unit {unit_text!r} of {value!r} ({type(err).__name__}: {err})")
+        raise CaseError(path, name, f"cannot read the unit {unit_text!r} of {value!r} ({type(err).__name__}: "
+                                    f"{err}){did_you_mean(unit_text, dimension)}")
     plain = [str(f) for f in factors if f.dimensionless]
     if plain:  # 'pi', 'percent', 'radian' would silently scale the number
         raise CaseError(path, name, f"cannot read {value!r}: {plain[0]!r} is a dimensionless factor, not a unit")
@@ -98,7 +121,8 @@ def quantity(value, name: str, path) -> float:
     try:
         q = units().Quantity(x, unit)
         if not q.check(dimension):
-            raise CaseError(path, name, f"{value!r} is a {q.dimensionality}, expected a {dimension} (e.g. {si_unit})")
+            raise CaseError(path, name, f"{value!r} is a {q.dimensionality}, expected a {dimension} (e.g. {si_unit})"
+                                        f"{did_you_mean(unit_text, dimension)}")
         si = float(q.to(si_unit).magnitude)
     except CaseError:
         raise

@@ -9,6 +9,7 @@ paper's series are compared, not gated: where they depart from the reference, th
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -18,6 +19,7 @@ import numpy as np
 import pandas as pd
 
 from contact_model import GATED_LAWS, GEOMETRIES
+from contact_model.constant_restitution import LAMMPS_B_PER_ALPHA, lammps_tsuji_alpha, restitution_of_damping
 from engines.codes import CODES
 from records.files import write_atomically
 from reference import FIRST_ORDER, HERTZ_TAU
@@ -81,6 +83,8 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
                    f"{lo.eps_ref:.4f} ({lo.err_eps:+.1%}), and {hi.eps:.4f} vs {hi.eps_ref:.4f} at K = {hi.K:.3g} "
                    f"({hi.err_eps:+.1%}): a constant restitution cannot follow eps(K) ~ 1 - "
                    f"{-FIRST_ORDER['eps']:.4g} K.")
+        if group.engine.iloc[0] == "lammps":
+            out.append(_lammps_tsuji_finding(build, group))
     x0 = table[(table.criterion == "x0") & table.law.isin(GATED_LAWS)]
     if len(x0):
         i = x0.K.idxmax()
@@ -143,6 +147,22 @@ class ReportInputs:
     not_available: list = field(default_factory=list)
     code_notes: dict | None = None
     ladder: dict | None = None
+
+
+def _lammps_tsuji_finding(build: str, runs: pd.DataFrame) -> str:
+    """What LAMMPS's `damping tsuji` restitutes by its own equation of motion, told e, against
+    what it did (contact_model.constant_restitution): its alpha(e) lacks a factor sqrt(2)."""
+    told = float(runs.matched_restitution.iloc[0])
+    criterion = runs.criterion.iloc[0]
+    b = LAMMPS_B_PER_ALPHA * lammps_tsuji_alpha(told)
+    own, fixed = restitution_of_damping(b, criterion), restitution_of_damping(math.sqrt(2) * b, criterion)
+    worst = float((runs.eps - own).abs().max())
+    return (f"{build}'s `damping tsuji`, told e = {told:.4f}, restitutes {own:.4f} ({criterion}) by its own "
+            f"equation of motion, x'' + sqrt(5/4) alpha(e) x^(1/4) x' + (5/4) x^(3/2) = 0, and the engine gives "
+            f"that at every K to {worst:.1e}: the {own - told:+.4f} is LAMMPS's mapping, not its integration. "
+            "alpha(e) is Tsuji's fit for the particle's mass, which LAMMPS applies to the reduced mass: it damps "
+            f"sqrt(2) too little (LAMMPS's development branch adds the sqrt(2), PR #5113); with it e would give "
+            f"{fixed:.4f}, off by the fit's own {fixed - told:+.1e}. `damping coeff_restitution` is exact under x0.")
 
 
 def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:

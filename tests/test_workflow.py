@@ -54,6 +54,57 @@ def test_malformed_case_stops_before_any_job(project):
     assert not (project / "results").exists()
 
 
+#: Three case files, one per kind of mistake, each from the steel case.
+BROKEN = {"bad_key": ("viscosity: 6.7e5 P", "viscocity: 6.7e5 P"),
+          "bad_unit": ("effective_modulus: 109 GPa", "effective_modulus: 109 Mpa"),
+          "bad_dim": ("radius: 0.635 cm", "radius: 0.635 kg")}
+SAID = {"bad_key": "cases/bad_key.yaml: field 'viscocity': unknown field (did you mean 'viscosity'?",
+        "bad_unit": "cases/bad_unit.yaml: field 'effective_modulus': cannot read the unit 'Mpa' of '109 Mpa' "
+                    "(UndefinedUnitError: 'Mpa' is not defined in the unit registry) (did you mean 'MPa'?)",
+        "bad_dim": "cases/bad_dim.yaml: field 'radius': '0.635 kg' is a [mass], expected a [length] (e.g. m)"}
+
+
+def test_bad_case_files_block_only_the_targets_that_need_them_each_named_at_once(project):
+    steel = (project / "cases" / "steel.yaml").read_text()
+    for name, (good, bad) in BROKEN.items():
+        text = steel.replace("name: steel", f"name: {name}").replace(good, bad)
+        (project / "cases" / f"{name}.yaml").write_text(text)
+    # Another case's target runs, and says which files it left out.
+    ok = snakemake("-n", "steel", cwd=project)
+    assert ok.returncode == 0, ok.stderr
+    for text in SAID.values():
+        assert f"Left out (not needed by this target): {text}" in ok.stderr
+    # `all` needs every case: every bad file at once, each with its field, no traceback.
+    study = snakemake("-n", "all", cwd=project)
+    assert study.returncode != 0
+    assert "3 of the case files this target needs cannot be used (of 4 in all):" in study.stderr
+    assert all(text in study.stderr for text in SAID.values())
+    assert "run the cases that are fine alone, e.g. snakemake -j2 steel" in study.stderr
+    assert "Traceback" not in study.stderr and 'File "' not in study.stderr and "Error in file" not in study.stderr
+    # One bad case's own target: its error first, the others after.
+    one = snakemake("-n", "bad_unit", cwd=project)
+    assert one.returncode != 0
+    head, others = one.stderr.split("Also not usable (not needed by this target):")
+    assert "1 of the case files this target needs cannot be used" in head and SAID["bad_unit"] in head
+    assert SAID["bad_key"] in others and SAID["bad_dim"] in others
+    assert not (project / "results").exists()
+
+
+def test_a_build_list_of_ones_own_just_works_and_a_calibration_engine_outside_it_is_refused_with_the_fix(project):
+    shutil.copytree(ROOT / "cases" / "calibration", project / "cases" / "calibration")  # a measured case
+    mine = "builds=[{id: yade-mine, code: yade, executable: yade}, {id: lammps-mine, code: lammps, executable: lmp}]"
+    out = snakemake("-n", "all", "--config", mine, "extras=[calibration]", cwd=project)
+    assert out.returncode == 0, out.stderr
+    # The calibration's loop follows the build list: its engine job runs the first build that runs
+    # the viscoelastic law (YADE: its deck is the job's input).
+    assert re.search(r"rule calibration_dem:\n    input: [^\n]*cases/decks/yade/collisions\.py", out.stdout), out.stdout
+    refused = snakemake("-n", "all", "--config", mine, "extras=[calibration]", "calibration={engine: lammps-2021}",
+                        cwd=project)
+    assert refused.returncode != 0
+    assert ("config 'calibration.engine': 'lammps-2021' is not the id of a build of this run; set it to one of "
+            "yade-mine, lammps-mine, or to null for the first of them") in refused.stderr
+
+
 def test_bad_config_is_refused_naming_the_key(project):
     out = snakemake("-n", "all", "--config", "time_step_factor=5", cwd=project)
     assert out.returncode != 0 and "time_step_factor" in out.stdout + out.stderr

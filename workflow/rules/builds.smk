@@ -36,12 +36,28 @@ BUILD_IDS = list(BUILDS)
 LAMMPS_BUILDS = [b for b, build in BUILDS.items() if build.code == "lammps"]
 
 
+def calibration_build_problem():
+    """Why config calibration.engine names no build that can close the calibration's loop (it
+    runs the calibrated viscoelastic contact), with the fix; None when it does."""
+    wanted = config["calibration"]["engine"]
+    able = [b for b, build in BUILDS.items() if "viscoelastic" not in CODES[build.code].unavailable]
+    if wanted is None:
+        return None if able else ("config 'calibration.engine': no build of this run can run the viscoelastic law "
+                                  "(engines/codes.py); add one to `builds:`, or leave `calibration` out of `extras:`")
+    if wanted in BUILDS and wanted in able:
+        return None
+    why = "is not the id of a build of this run" if wanted not in BUILDS else "cannot run the viscoelastic law"
+    return (f"config 'calibration.engine': {wanted!r} {why}; set it to one of {', '.join(able) or '(none)'}, or to "
+            f"null for the first of them, e.g. --config 'calibration={{engine: null}}' ... (or in config/config.yaml)")
+
+
 def calibration_build():
-    """The build of config calibration.engine (closing the calibration's loop)."""
-    if config["calibration"]["engine"] not in BUILDS:
-        raise BuildError(f"config 'calibration.engine': {config['calibration']['engine']!r} is not the id of a "
-                         f"build; known: {', '.join(BUILD_IDS)}")
-    return BUILDS[config["calibration"]["engine"]]
+    """The build that closes the calibration's loop: config calibration.engine, or (null) the
+    first build that can run the viscoelastic law (calibration_build_problem refuses the others)."""
+    wanted = config["calibration"]["engine"]
+    if wanted is None:
+        wanted = next(b for b, build in BUILDS.items() if "viscoelastic" not in CODES[build.code].unavailable)
+    return BUILDS[wanted]
 
 
 def build_params(build_id):

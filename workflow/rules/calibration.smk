@@ -3,19 +3,29 @@
 
 
 def calibration_cases():
-    """{name: file} of the case files in config calibration.cases that have `measurements:`."""
+    """({name: file} of the case files in config calibration.cases that have `measurements:`,
+    {name: error} of those that cannot be read): read once with the study's (cases.smk)."""
     files = sorted({f for p in config["calibration"]["cases"] for f in glob.glob(p)})
+    cases, errors = load_cases({f: f for f in files})
+    errors = {f: err for f, err in errors.items() if f not in ALL_CASES.values()}  # the study's: said there
     found = {}
-    for f in files:
-        case = load_case(f)  # a malformed case or measurement file stops here, named
+    for f, case in cases.items():
         if case.measurements is not None:
-            if not CASE_NAME.fullmatch(Path(f).stem) or Path(f).stem in found:
-                raise ValueError(f"{f}: a calibrated case needs a unique file name of letters, digits and underscores")
-            found[Path(f).stem] = f
-    return found
+            stem = Path(f).stem
+            if not CASE_NAME.fullmatch(stem) or stem in found:
+                errors[f] = f"{f}: a calibrated case needs a unique file name of letters, digits and underscores"
+                continue
+            found[stem] = f
+    return found, errors
 
 
-CALIBRATION_CASES = calibration_cases()
+CALIBRATION_CASES, _calibration_errors = calibration_cases()
+_problem = unusable(_calibration_errors, set(_calibration_errors) if calibration_requested(list(ALL_CASES)) else set(),
+                    len(_calibration_errors) + len(CALIBRATION_CASES), "calibration's case files")
+if _problem:
+    SETUP_PROBLEMS.append(_problem)
+if calibration_requested(list(ALL_CASES)) and calibration_build_problem():
+    SETUP_PROBLEMS.append(calibration_build_problem())
 CALIBRATION = config["calibration"]
 
 

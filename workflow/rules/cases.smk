@@ -8,7 +8,7 @@ def case_files():
     patterns = [config["cases"]] if isinstance(config["cases"], str) else config["cases"]
     files = sorted({f for p in patterns for f in glob.glob(p)})
     if not files:
-        raise ValueError(f"config 'cases': no case file matches {config['cases']!r}")
+        raise WorkflowError(f"config 'cases': no case file matches {config['cases']!r}")
     return {Path(f).stem: f for f in files}
 
 
@@ -17,31 +17,148 @@ def check_case_names(cases, rule_names):
     name that cannot be one, rather than skip it or break the workflow."""
     for name, path in cases.items():
         if not CASE_NAME.fullmatch(name):
-            raise ValueError(f"{path}: the file name {name!r} cannot name a case: it is the case's target and "
+            raise WorkflowError(f"{path}: the file name {name!r} cannot name a case: it is the case's target and "
                              "results folder, so use letters, digits and underscores, starting with a letter "
                              f"(e.g. {re.sub(r'[^A-Za-z0-9_]+', '_', name).strip('_') or 'case_1'}.yaml)")
         if name in rule_names:
-            raise ValueError(f"{path}: the file name {name!r} is taken by the workflow's rule '{name}'; rename the "
+            raise WorkflowError(f"{path}: the file name {name!r} is taken by the workflow's rule '{name}'; rename the "
                              f"case file (e.g. {name}_case.yaml)")
 
 
-CASES = case_files()
-# Every case is validated and planned here, before any job (let alone an engine) starts: a
-# malformed case, or one the engines cannot run honestly (engines.plan), stops the workflow with
-# the file, the field and the reason. Two files may not claim one case name.
-# The plans made here are what the plan rule writes (results/<case>/plan.json): planned once.
-_names, PLANS = {}, {}
-for _stem, _path in CASES.items():
-    _case = load_case(_path)
-    PLANS[_stem] = plan_listing(_case, plan_runs(
-        _case, SETTINGS["builds"], config["laws"], config["K_grid"], config["time_step_factor"],
-        config["default_law_match_K"], config["max_overlap_ratio"], ladder=config["ladder"]))
-    _case_name = _case.name
-    if _case_name in _names:
-        raise ValueError(f"{_path}: field 'name': {_case_name!r} is already the name of {_names[_case_name]}")
-    _names[_case_name] = _path
+def requested():
+    """(targets, target jobs) of this run, from Snakemake's own reading of the command line;
+    (None, None) when it was not started from one (the API)."""
+    from snakemake.cli import get_argument_parser
+
+    try:
+        args, _ = get_argument_parser().parse_known_args(sys.argv[1:])
+    except (SystemExit, Exception):
+        return None, None
+    return list(args.targets or ()), list(args.target_jobs or ())
+
+
+def cases_requested(case_names):
+    """The cases this run's targets need: a case's target (`snakemake -j2 rubber`), a file under
+    results/<case>/, or a cluster job's `--target-jobs` with a case wildcard; every case for
+    `all`, no target, or anything else (a rule of the whole study, a file of no one case)."""
+    targets, jobs = requested()
+    if targets is None or not (targets or jobs):
+        return set(case_names)
+    needed = set()
+    for job in jobs:
+        if "case" not in job.wildcards_dict:
+            return set(case_names)
+        needed.add(job.wildcards_dict["case"])
+    for target in targets:
+        parts = Path(target).parts
+        if target in case_names:
+            needed.add(target)
+        elif len(parts) > 2 and parts[0] == "results" and parts[1] in case_names:
+            needed.add(parts[1])
+        else:  # `all`, another rule, another file: the whole study
+            return set(case_names)
+    return needed
+
+
+def calibration_requested(case_names):
+    """Whether this run's targets need the calibration's cases: `calibration`, a file under
+    results/calibration/, a calibration job, or `all` when the report includes the calibration;
+    not a case's own target or files."""
+    targets, jobs = requested()
+    if targets is None:
+        return True
+    if jobs:
+        return any("case" not in j.wildcards_dict for j in jobs)
+    if not targets:
+        return "calibration" in EXTRAS
+    for target in targets:
+        parts = Path(target).parts
+        if target in case_names or (len(parts) > 2 and parts[0] == "results" and parts[1] in case_names):
+            continue
+        if target == "all" and "calibration" not in EXTRAS:
+            continue
+        return True
+    return False
+
+
+def load_cases(files):
+    """({stem: Case} of the usable case files, {stem: error} of the others): every file is read
+    and validated (contact_model.load_case), so that one run reports every bad file at once; a
+    file read before (LOADED, by path) is not read again."""
+    cases, errors = {}, {}
+    for stem, path in files.items():
+        if path not in LOADED:
+            try:
+                LOADED[path] = (load_case(path), None)
+            except ValueError as err:  # CaseError (and MeasurementError) name the file and the field
+                LOADED[path] = (None, str(err))
+        case, error = LOADED[path]
+        if error is None:
+            cases[stem] = case
+        else:
+            errors[stem] = error
+    return cases, errors
+
+
+def plan_cases(cases):
+    """({stem: plan listing}, {stem: error}): each case planned (engines.plan), a case the engines
+    cannot run honestly refused with its reason, two files claiming one case name refused."""
+    plans, errors, names = {}, {}, {}
+    for stem, case in cases.items():
+        if case.name in names:
+            errors[stem] = f"{case.path}: field 'name': {case.name!r} is already the name of {names[case.name]}"
+            continue
+        try:
+            plans[stem] = plan_listing(case, plan_runs(
+                case, SETTINGS["builds"], config["laws"], config["K_grid"], config["time_step_factor"],
+                config["default_law_match_K"], config["max_overlap_ratio"], ladder=config["ladder"]))
+        except ValueError as err:
+            errors[stem] = str(err)
+            continue
+        names[case.name] = case.path
+    return plans, errors
+
+
+def unusable(errors, needed, total, what="case files"):
+    """The problem the targets' `needed` files among `errors` make, every bad file named (the
+    needed first), or None when none is needed; the others are reported as left out."""
+    blocking = [err for stem, err in errors.items() if stem in needed]
+    others = [err for stem, err in errors.items() if stem not in needed]
+    if not blocking:
+        for err in others:
+            print(f"Left out (not needed by this target): {err}", file=sys.stderr)
+        return None
+    text = f"{len(blocking)} of the {what} this target needs cannot be used (of {total} in all):\n  " + \
+        "\n  ".join(blocking)
+    if others:
+        text += "\nAlso not usable (not needed by this target):\n  " + "\n  ".join(others)
+    return text
+
+
+#: What stops the workflow before any job, each with what to do: bad case files, bad builds
+#: (workflow/rules/builds.smk). The Snakefile raises them together, after every include.
+SETUP_PROBLEMS = []
+ALL_CASES = case_files()
+# Every case is validated and planned here, before any job (let alone an engine) starts. A
+# case file that cannot be used stops the targets that need it, each bad file named with its
+# field and the reason, all of them at once; the other cases' targets still run (and say which
+# files they left out). The plans made here are what the plan rule writes (results/<case>/plan.json).
+#: {path: (Case or None, error or None)} of every case file read (also by the calibration's).
+LOADED = {}
+_cases, CASE_ERRORS = load_cases(ALL_CASES)
+PLANS, _plan_errors = plan_cases(_cases)
+CASE_ERRORS.update(_plan_errors)
+_problem = unusable(CASE_ERRORS, cases_requested(list(ALL_CASES)), len(ALL_CASES))
+if _problem:
+    _fine = sorted(set(ALL_CASES) - set(CASE_ERRORS))
+    SETUP_PROBLEMS.append(_problem + (f"\nFix them, or run the cases that are fine alone, e.g. snakemake -j2 "
+                                      f"{' '.join(_fine[:3])}" if _fine else ""))
+CASES = {stem: path for stem, path in ALL_CASES.items() if stem not in CASE_ERRORS}
 
 
 # Every build's executable answered for its version meanwhile (workflow/rules/builds.smk): a
 # missing one, another engine or one that cannot say its version stops the workflow here.
-finish_build_checks(BUILDS, _BUILD_CHECKS)
+try:
+    finish_build_checks(BUILDS, _BUILD_CHECKS)
+except BuildError as err:
+    SETUP_PROBLEMS.append(str(err))
