@@ -106,7 +106,7 @@ def _fit_summary(fit: Fit, pair: ContactPair, modulus_factors) -> dict:
         "eta_Pa_s": eta, "eta_interval_Pa_s": [eta_low, eta_high],
         "eta_P": eta / POISE, "eta_interval_P": [eta_low / POISE, eta_high / POISE],
         "K_range": [float(fit.K.min()), float(fit.K.max())],
-        "chi2": fit.chi2, "chi2_red": fit.chi2_red, "sigma_given": fit.sigma_given,
+        "chi2": fit.chi2, "chi2_red": fit.chi2_red, "sigma_given": fit.sigma_given, "widened": bool(fit.widened),
         "sigma": float(fit.sigma[0]) if not fit.sigma_given else None,
         "rms_residual": float(np.sqrt(np.mean(fit.residuals**2))),
         "xi_at_V_max": float(1.0 - fit.eps_fit[np.argmax(fit.K)] ** 2),

@@ -22,6 +22,12 @@ to [0, K_max]): residuals r_i = (eps_i - eps(K_i)) / sigma_i, S(k) = sum r_i^2.
 
 - sigma_i given (the file's uncertainty column): chi^2 = S is absolute; the 95 % profile-likelihood
   interval is {k : S(k) - S_min <= chi2_1(0.95) = 3.841}; reduced chi^2 = S_min / (n - 1).
+  When chi2_red > 1 the data scatter more than the stated sigma_i allow, and an interval from them
+  would be too narrow: the interval is then the profile-t one on the scale the scatter estimates,
+  {k : S(k) - S_min <= chi2_red t_{n-1}(0.975)^2} (the stated sigma_i widened by sqrt(chi2_red),
+  with Student's quantile, since that scale is itself estimated from n - 1 degrees of freedom).
+  It never narrows the stated interval. `Fit.widened` says which was used; above
+  WARN_CHI2_RED the report warns that the stated uncertainties understate the scatter.
 - sigma_i not given: all rows weigh the same and the scatter estimates the uncertainty,
   s^2 = S_min / (n - 1); the interval is the profile-t one,
   {k : S(k) - S_min <= s^2 t_{n-1}(0.975)^2}, exact for a model linear in k and the usual
@@ -124,6 +130,8 @@ class Fit:
     sigma_given : whether the rows carried uncertainties.
     chi2 : S_min (with sigma = 1 when none given); chi2_red = S_min / (n - 1).
     evaluations : model evaluations (least squares and interval), for the benchmark.
+    widened : the stated sigma understate the scatter (chi2_red > 1): the interval is the
+        profile-t one on the estimated scale (see the module's docstring).
     """
 
     model: str
@@ -145,6 +153,7 @@ class Fit:
     evaluations: int = 0
     K_max: float = K_MAX
     extra: dict = field(default_factory=dict)
+    widened: bool = False
 
     @property
     def n(self) -> int:
@@ -167,6 +176,10 @@ class Fit:
             return (M**2 * E**3 / (R * viscous_velocity(k, self.V_ref))) ** 0.2 if k > 0 else 0.0
 
         return eta(self.k), eta(self.k_low), eta(self.k_high)
+
+
+#: Above this reduced chi^2 the report warns that the stated uncertainties understate the scatter.
+WARN_CHI2_RED = 2.0
 
 
 def _initial_k(V, eps, V_ref, K_max) -> float:
@@ -233,13 +246,17 @@ def fit_restitution(velocity, restitution, sigma=None, *, criterion: str = "x0",
         raise CalibrationError(source, where, f"the best fit needs K > {K_max:g} at {V_ref:g} m/s, beyond the range "
                                               "the model covers: the data cannot be fitted; no viscosity is given")
     dof = n - 1
+    widened = False
     if sigma is None:
         s2 = S_min / dof
         threshold = s2 * student_t_quantile(0.5 + level / 2, dof) ** 2
         used_sigma, chi2_red = np.full(n, math.sqrt(s2)), 1.0
     else:
-        threshold = chi2_quantile(level, 1)
         used_sigma, chi2_red = np.asarray(sigma, dtype=float), S_min / dof
+        stated = chi2_quantile(level, 1)
+        scattered = chi2_red * student_t_quantile(0.5 + level / 2, dof) ** 2
+        widened = chi2_red > 1 and scattered > stated
+        threshold = scattered if widened else stated
 
     def excess(kk):
         return S(kk) - S_min - threshold
@@ -254,7 +271,8 @@ def fit_restitution(velocity, restitution, sigma=None, *, criterion: str = "x0",
         k_high = K_max if high_open else optimize.brentq(excess, k, K_max, xtol=1e-8 * k, rtol=1e-8)
     eps_fit = model(k * x)
     return Fit(model_name, criterion, V_ref, k, k_low, k_high, low_open, high_open, k * x, eps_fit,
-               eps - eps_fit, used_sigma, sigma is not None, S_min, chi2_red, level, calls[0], K_max)
+               eps - eps_fit, used_sigma, sigma is not None, S_min, chi2_red, level, calls[0], K_max,
+               widened=widened)
 
 
 def falling_range(model: Callable, K_max: float = K_MAX, points: int = 10001) -> float:

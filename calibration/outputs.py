@@ -6,6 +6,7 @@ I/O at the edge: the numbers come from `calibration.case_calibration` and `calib
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import matplotlib
@@ -20,7 +21,7 @@ from contact_model import CRITERIA  # noqa: E402
 from contact_model.case_file import Case  # noqa: E402
 
 from .case_calibration import POISE  # noqa: E402
-from .fit import Fit, exact_restitution  # noqa: E402
+from .fit import WARN_CHI2_RED, Fit, exact_restitution  # noqa: E402
 from .loop import LOOP_LAW  # noqa: E402
 
 
@@ -49,6 +50,7 @@ def plot_fit(case: Case, fits: dict[str, Fit], path, loop: pd.DataFrame | None =
     """The data, the exact fits (x0, F0), the series fit, and the residuals below; with `loop`
     the DEM eps at the measured velocities."""
     m = case.measurements
+    pair = case.pairs[0]
     V = np.geomspace(m.velocity.min() * 0.5, m.velocity.max() * 1.2, 200)
     fig, (ax, axr) = plt.subplots(2, 1, figsize=(7, 7), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
     ax.errorbar(m.velocity, m.restitution, yerr=m.uncertainty, fmt="ko", ms=5, label="measured")
@@ -59,17 +61,23 @@ def plot_fit(case: Case, fits: dict[str, Fit], path, loop: pd.DataFrame | None =
             __import__("reference.restitution_closed_forms", fromlist=["paper_series"]).paper_series(K)
         color, ls = styles[name]
         label = f"exact fit, {name}" if f.model == "exact" else "paper's series fit (x0)"
-        ax.plot(V, eps, color=color, ls=ls, label=f"{label}: K(V_max) = {f.k:.4f}")
+        eta, eta_low, eta_high = f.viscosity(pair.E, pair.R, pair.M)
+        ax.plot(V, eps, color=color, ls=ls,
+                label=f"{label}: eta = {eta:.3g} Pa·s [{eta_low:.3g}, {eta_high:.3g}], K(V_max) = {f.k:.4f}")
         axr.plot(m.velocity, f.residuals, "o", color=color, mfc="none" if name != "x0" else color, label=name)
     if loop is not None and len(loop):
         for criterion, g in loop.groupby("criterion"):
             ax.plot(g.V, g.eps_dem, "x", color=styles[criterion][0], ms=9, mew=2,
                     label=f"{g.engine.iloc[0]} run with the {criterion} fit")
     ax.set_xscale("log")
+    # Labels at 1, 2 and 5 of every decade: the data span about one decade, where the default
+    # locator labels a single tick (10^0).
+    axr.xaxis.set_major_locator(matplotlib.ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    axr.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     axr.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # log minor labels overlap
     ax.set_ylabel("restitution coefficient eps")
     ax.set_title(f"{case.name}: eps(V), fits of eta")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="lower left")  # the data fall from upper left to lower right
     axr.axhline(0, color="grey", lw=0.5)
     axr.set_xlabel("impact velocity V [m/s]")
     axr.set_ylabel("eps - fit")
@@ -119,11 +127,45 @@ def _md(df: pd.DataFrame, fmt: str = ".4g") -> str:
     return "\n".join(lines)
 
 
+def _eta(value_Pa_s: float) -> str:
+    return f"{value_Pa_s:.4g} Pa·s ({value_Pa_s / POISE:.4g} P)"
+
+
+def answer_lines(summary: dict) -> list[str]:
+    """The answer first: one line per criterion with eta in Pa·s and P, its 95 % interval, how
+    the interval was made and chi²_red; then a warning where the stated uncertainties
+    understate the scatter (chi²_red > WARN_CHI2_RED), and where the fitted constant loss is
+    unphysical."""
+    lines = []
+    for criterion in CRITERIA:
+        f = summary["fits"][criterion]
+        low, high = f["eta_interval_Pa_s"]
+        opened = [side for side, is_open in f["interval_open"].items() if is_open]
+        basis = ("from the scatter: no uncertainties given" if not f["sigma_given"] else
+                 "the stated uncertainties widened to the scatter (chi²_red > 1)" if f.get("widened") else
+                 "from the stated uncertainties")
+        lines.append(f"- **{summary['case']}, {criterion}: use eta = {_eta(f['eta_Pa_s'])}**, 95 % interval "
+                     f"{low:.4g}–{high:.4g} Pa·s ({low / POISE:.4g}–{high / POISE:.4g} P; {basis}"
+                     f"{'; open at the ' + ' and '.join(opened) + ' end' if opened else ''}), "
+                     f"chi²_red = {f['chi2_red']:.3g}, {f['n']} points.")
+        if f["sigma_given"] and f["chi2_red"] > WARN_CHI2_RED:
+            lines.append(f"  - Warning: chi²_red = {f['chi2_red']:.3g} > {WARN_CHI2_RED:g}: the stated uncertainties "
+                         f"understate the scatter about {math.sqrt(f['chi2_red']):.2g} times; an interval from them "
+                         "alone would be too narrow, so it is the profile-t interval on the scale the scatter "
+                         "estimates (`calibration/fit.py`).")
+    xi = summary["constant_loss"]["xi_0"]
+    if not 0 <= xi < 1:
+        lines.append(f"  - Warning: the fitted velocity-independent loss xi_0 = {xi:.3g} is unphysical (a loss "
+                     f"{'below 0 gives energy back' if xi < 0 else 'of 1 or more leaves no rebound'}): that extended "
+                     "model does not describe these data; its test below says nothing about them.")
+    return lines
+
+
 def case_section(summary: dict, residuals: pd.DataFrame, loop: pd.DataFrame | None, folder: str) -> list[str]:
-    """The report's section of one calibrated case."""
+    """The report's section of one calibrated case: its answer first (`answer_lines`), then how."""
     s, fx, ff, fs = summary, summary["fits"]["x0"], summary["fits"]["F0"], summary["fits"]["series"]
     sig = "given per row" if fx["sigma_given"] else f"not given; estimated from the scatter, sigma = {fx['sigma']:.2g}"
-    lines = [f"## {s['case']}", "",
+    lines = [f"## {s['case']}", "", *answer_lines(s), "",
              f"Data: `{s['measurements']}` ({fx['n']} points, "
              f"V = {s['velocity_range'][0]:g}–{s['velocity_range'][1]:g} m/s; "
              f"uncertainty {sig}). Provenance: "

@@ -116,15 +116,20 @@ def test_fit_recovers_the_truth_on_noise_free_data(criterion):
     assert dissipation_parameter(E, R, M, eta, 1.0) == pytest.approx(0.3, rel=1e-7)
 
 
-def test_interval_matches_the_linearised_one_for_small_noise():
-    """With sigma given, the chi^2 profile interval of a nearly linear problem is k +- 1.96/sqrt(sum J^2)."""
-    V, eps, noisy = synthetic_sets(1, seed=3, k_true=0.2, noise=1e-4)
+@pytest.mark.parametrize("seed", [3, 4])
+def test_interval_matches_the_linearised_one_for_small_noise(seed):
+    """With sigma given, the chi^2 profile interval of a nearly linear problem is k +- 1.96/sqrt(sum J^2);
+    where the data scatter more than sigma (chi2_red > 1, seed 3) it is widened to the profile-t one,
+    k +- t_{n-1}(0.975) sqrt(chi2_red)/sqrt(sum J^2), whichever is wider (seed 4: chi2_red < 1)."""
+    V, eps, noisy = synthetic_sets(1, seed=seed, k_true=0.2, noise=1e-4)
     sigma = np.full(len(V), 1e-4)
     fit = fit_restitution(V, noisy[0], sigma)
     x = (V / V.max()) ** 0.2
     h = 1e-6
     J = (exact_restitution("x0")((fit.k + h) * x) - exact_restitution("x0")((fit.k - h) * x)) / (2 * h) / sigma
-    half = 1.959964 / math.sqrt(J @ J)
+    t = 2.262157  # Student's t, 9 degrees of freedom, 0.975
+    assert fit.widened == (fit.chi2_red > 1) == (seed == 3)
+    half = (t * math.sqrt(fit.chi2_red) if fit.widened else 1.959964) / math.sqrt(J @ J)
     assert fit.k_high - fit.k == pytest.approx(half, rel=2e-3)
     assert fit.k - fit.k_low == pytest.approx(half, rel=2e-3)
 
@@ -173,6 +178,57 @@ def test_coverage_of_the_interval_seeded():
         assert abs(c.fraction - 0.95) < 3 * c.standard_error, c
     c = coverage(200, seed=12, level=0.6827, tabulated=True)
     assert abs(c.fraction - 0.6827) < 3 * c.standard_error, c
+
+
+@pytest.mark.parametrize("understated", [1.5, 3.0])
+def test_understated_uncertainties_are_widened_and_the_coverage_comes_back(understated):
+    """1000 seeded Gugan-like sets whose stated uncertainty is the true noise / 1.5 or / 3: an
+    interval from the stated sigma alone covers 79.6 % and 46.9 % of them (measured, as the fit was
+    before it widened); widened by the scatter (chi2_red), 95.2 % and 95.1 % (asserted: 93-97 %)."""
+    c = coverage(1000, seed=7, sigma_given=True, tabulated=True, stated_noise=0.005 / understated)
+    assert c.refused == 0
+    assert 0.93 <= c.fraction <= 0.97, c
+
+
+def _synthetic_case(tmp_path, k_true, sigma, xi_0=0.0, seed=5):
+    """A measured case (steel-like bodies on a plane) whose data come from the reference solver at
+    k_true, with an extra velocity-independent loss xi_0 and noise 0.005, stating `sigma`."""
+    V, eps_true, noisy = synthetic_sets(1, seed=seed, k_true=k_true, noise=0.005)
+    eps = np.sqrt(1 - xi_0) * eps_true + (noisy[0] - eps_true)
+    rows = "\n".join(f"{v:.6g},{e:.6f},{sigma}" for v, e in zip(10 * V, eps))
+    (tmp_path / "m.csv").write_text("velocity [m/s],restitution,restitution_uncertainty\n" + rows + "\n")
+    (tmp_path / "mine.yaml").write_text("effective_modulus: 1 GPa\nradius: 1 cm\ndensity: 1000 kg/m^3\n"
+                                        "viscosity: 1e4 P\ngeometries: [sphere-plane]\nmeasurements: m.csv\n")
+    return load_case(tmp_path / "mine.yaml")
+
+
+def test_the_answer_comes_first_in_both_units_and_warns_of_understated_uncertainties(tmp_path):
+    from calibration.outputs import answer_lines
+
+    summary, fits = calibrate(_synthetic_case(tmp_path, 0.3, sigma=0.001))  # noise 0.005
+    lines = answer_lines(summary)
+    x0 = summary["fits"]["x0"]
+    assert x0["chi2_red"] > 10 and x0["widened"]
+    eta, (low, high) = x0["eta_Pa_s"], x0["eta_interval_Pa_s"]
+    assert lines[0].startswith(f"- **mine, x0: use eta = {eta:.4g} Pa·s ({eta / 0.1:.4g} P)**, 95 % interval "
+                               f"{low:.4g}–{high:.4g} Pa·s")
+    assert "the stated uncertainties widened to the scatter" in lines[0]
+    assert lines[1].startswith(f"  - Warning: chi²_red = {x0['chi2_red']:.3g} > 2: the stated uncertainties "
+                               f"understate the scatter about {math.sqrt(x0['chi2_red']):.2g} times")
+    assert fits["x0"].widened and not fits["x0"].low_open and not fits["x0"].high_open
+
+
+def test_an_unphysical_constant_loss_is_flagged(tmp_path):
+    from calibration.outputs import answer_lines
+
+    # the data restitute more than the model at every speed (xi_0 = -0.15: energy given back)
+    summary, _ = calibrate(_synthetic_case(tmp_path, 0.6, sigma=0.005, xi_0=-0.15))
+    assert summary["constant_loss"]["xi_0"] < -0.05
+    assert any(line.startswith(f"  - Warning: the fitted velocity-independent loss xi_0 = "
+                               f"{summary['constant_loss']['xi_0']:.3g} is unphysical (a loss below 0 gives energy "
+                               "back)") for line in answer_lines(summary))
+    fine, _ = calibrate(_synthetic_case(tmp_path, 0.3, sigma=0.005))
+    assert not any("unphysical" in line for line in answer_lines(fine))
 
 
 # ------------------------------------------------------------------------------ closed forms

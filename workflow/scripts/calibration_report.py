@@ -6,7 +6,7 @@ from pathlib import Path
 import pandas as pd
 
 from common import start_rule
-from calibration.outputs import case_section, closed_forms_section
+from calibration.outputs import answer_lines, case_section, closed_forms_section
 
 log = start_rule(snakemake, "results/calibration")
 out = Path(snakemake.output[0])
@@ -15,8 +15,13 @@ lines = ["# Calibrating eta from measured restitution", "",
          "intervals), beside the paper's second-order series; then run in a DEM engine at the measured velocities. "
          "Command: `snakemake -j2 calibration`. Method: `calibration/fit.py`; format of the measurement files: "
          "`contact_model/measurement_file.py` and the README.", ""]
-for fit, residuals, loop in zip(snakemake.input.fits, snakemake.input.residuals, snakemake.input.loops):
-    summary = json.loads(Path(fit).read_text())
+summaries = [json.loads(Path(fit).read_text()) for fit in snakemake.input.fits]
+lines += ["**The answers** (eta for the engines' viscoelastic contact; the sections below say how):", ""]
+for summary in summaries:
+    lines += answer_lines(summary)
+lines += [""]
+for fit, summary, residuals, loop in zip(snakemake.input.fits, summaries, snakemake.input.residuals,
+                                         snakemake.input.loops):
     folder = Path(fit).parent.relative_to(out.parent).as_posix()
     lines += case_section(summary, pd.read_csv(residuals), pd.read_csv(loop), folder)
 lines += closed_forms_section(pd.read_csv(snakemake.input.errors), pd.read_csv(snakemake.input.bias))
