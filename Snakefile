@@ -102,7 +102,8 @@ include: "workflow/rules/compare.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used. Every other
 # rule's job is a SLURM job of its own there (profiles/slurm), with its cluster_resources.
-localrules: all, plan, summary, lammps_regressions, reference_tables, report, gate, case_verdict, case_gate, calibration, calibration_report,
+localrules: all, plan, summary, lammps_regressions, reference_tables, checks, report, gate, case_verdict, case_gate, calibration,
+            calibration_report,
             compare, compare_studies, compare_gate, compare_builds, convergence_summary, paper_figure_3, paper_figure_4
 
 # The rules whose failure is a verdict: a gate exits non-zero on FAIL, after writing it.

@@ -148,11 +148,12 @@ def _verdict_line(r) -> str:
             f"{_error(r['candidate_error'])} ({what.get(r['candidate_pass'], '-')})")
 
 
-def markdown(comparison: pd.DataFrame, baseline: str, candidate: str, factor: float, noise_floor: float) -> str:
+def markdown(comparison: pd.DataFrame, baseline: str, candidate: str, factor: float, noise_floor: float,
+             title: str = "Comparison of two studies") -> str:
     counts = comparison.status.value_counts()
     regressions = comparison[comparison.status == "regression"]
     fixes = comparison[comparison.status == "fix"]
-    lines = ["# Comparison of two studies", "",
+    lines = [f"# {title}", "",
              f"**{'REGRESSION' if len(regressions) else 'NO REGRESSION'}** — baseline `{baseline}`, candidate "
              f"`{candidate}`: " + ", ".join(f"{counts.get(s, 0)} {s}" for s in
                                             ("regression", "fix", "unchanged", "new", "removed")) + ".", "",
@@ -191,17 +192,21 @@ def junit(comparison: pd.DataFrame) -> bytes:
 
 
 def write_comparison(comparison: pd.DataFrame, out_dir, baseline: str, candidate: str, factor: float,
-                     noise_floor: float) -> None:
+                     noise_floor: float, title: str = "Comparison of two studies") -> None:
+    """compare.csv, compare.md, compare.html and compare-junit.xml in `out_dir`; `title` heads
+    the report ("Build comparison: <baseline build> (<version>, <executable>) -> <candidate> (...)"
+    for two builds of one study)."""
+    import html
     import markdown as md
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    text = markdown(comparison, baseline, candidate, factor, noise_floor)
+    text = markdown(comparison, baseline, candidate, factor, noise_floor, title)
     write_atomically(out / "compare.csv", comparison.to_csv(index=False, float_format="%.6g"))
     write_atomically(out / "compare.md", text)
     body = md.markdown(text, extensions=["tables"])
-    write_atomically(out / "compare.html", "<!DOCTYPE html><html><head><meta charset='utf-8'><title>Comparison of "
-                     "two studies</title><style>body{font-family:sans-serif;max-width:1300px;margin:auto}"
+    write_atomically(out / "compare.html", "<!DOCTYPE html><html><head><meta charset='utf-8'><title>"
+                     f"{html.escape(title)}</title><style>body{{font-family:sans-serif;max-width:1300px;margin:auto}}"
                      "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}"
                      f"</style></head><body>{body}</body></html>")
     write_atomically(out / "compare-junit.xml", junit(comparison))

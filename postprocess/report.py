@@ -124,7 +124,11 @@ class ReportInputs:
     builds: the build ids in config order (the matrix's rows and the plots' styles);
     not_available: the plans' ``not_available`` cells (build, engine, law, geometry, reason);
     code_notes: {code: notes} (`engines.codes.EngineCode.notes`) of the builds' codes, printed
-    under the matrix; ladder: config `ladder` (the time steps of the gated runs, described).
+    under the matrix; ladder: config `ladder` (the time steps of the gated runs, described);
+    title: the report's heading; folder: where the report and its summary.csv and checks.csv
+    are (results, or results/<case> for a case's own report); case_reports: each case's own
+    report ({case, verdict, checked, failed, report: its path from here}); comparisons: each
+    build comparison ({pair, report, regression, fix, unchanged, new, removed}).
     """
 
     table: pd.DataFrame
@@ -147,6 +151,10 @@ class ReportInputs:
     not_available: list = field(default_factory=list)
     code_notes: dict | None = None
     ladder: dict | None = None
+    title: str = "Viscoelastic Hertz contact in DEM engines: comparison report"
+    folder: str = "results"
+    case_reports: list = field(default_factory=list)
+    comparisons: list = field(default_factory=list)
 
 
 def _lammps_tsuji_finding(build: str, runs: pd.DataFrame) -> str:
@@ -208,7 +216,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                    DEFAULT_MATRIX: (default_matrix_markdown(default_cells), default_matrix_html(default_cells))}
 
     lines = [
-        "# Viscoelastic Hertz contact in DEM engines: comparison report", "",
+        f"# {inputs.title}", "",
         f"**Verdict: {verdict['verdict']}** — {verdict['checked'] - verdict['failed']} of {verdict['checked']} gated "
         "checks (engine build x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs "
         "reference): "
@@ -219,16 +227,19 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
         lines += [sentence, ""]
     if verdict["verdict"] != "PASS":
         lines += ["Failing checks:", ""] + [f"- {f}" for f in verdict["failures"]] + [""]
-    lines += [f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `results/summary.csv` "
+    lines += [f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `{inputs.folder}/summary.csv` "
               f"({len(full) - len(limits)} rows of engine runs, one per run and end-of-collision criterion, and "
               f"{len(limits)} of ladder limits, dt = 0; sha256 {verdict['summary_sha256'][:12]}…) and "
-              "`results/checks.csv`. Machine-readable: `verdict.json`, `junit.xml` (one test case per check).", ""]
+              f"`{inputs.folder}/checks.csv`. Machine-readable: `verdict.json`, `junit.xml` (one test case per "
+              "check).", ""]
+    lines += _parts_section(inputs.case_reports, inputs.comparisons, calibration is not None)
     if has_rows:
         versions = table.groupby(["build", "engine"], sort=False).engine_version.unique()
         lines += ["## Engines", "", "Every engine build (config `builds:`) runs the same cases, laws, geometries and "
                   "time steps; its version is read from the engine and recorded in every dump.", ""]
         lines += [f"- **{b}** ({e}): {', '.join(v)}" for (b, e), v in versions.items()] + [""]
-        lines += ["Cases: " + ", ".join(f"[{c}]({c}/summary.csv)" for c in sorted(table.case.unique())), ""]
+        if inputs.folder == "results":  # the study's report: each case's rows beside it
+            lines += ["Cases: " + ", ".join(f"[{c}]({c}/summary.csv)" for c in sorted(table.case.unique())), ""]
     lines += ["## Gated checks: the worst relative error of each cell, engine vs reference solver", "",
               "Rows: engine builds; columns: contact law, geometry, end-of-collision criterion. Laws: viscoelastic "
               "with the attractive tail kept (criteria x0 and F0 from one trajectory), viscoelastic clipped at zero "
@@ -300,7 +311,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     if timing:
         lines += ["## Timing", "", _md_table(pd.DataFrame([timing])), ""]
     text = "\n".join(lines)
-    markdown_text, html_text = text, text
+    # report.html links the other reports' HTML pages (report.md their Markdown)
+    markdown_text, html_text = text, re.sub(r"\]\(([\w.-]+)/report\.md\)", r"](\1/report.html)", text)
     for placeholder, (md, html) in html_blocks.items():
         markdown_text = markdown_text.replace(placeholder, "\n".join(md).rstrip())
         # Raw HTML passes through Python-Markdown as a block; the Markdown around it (legend, notes) is kept.
@@ -344,6 +356,26 @@ def _lammps_regression_section(regressions: pd.DataFrame, checks: pd.DataFrame) 
             _md_table(cells), "", "Every run (`results/lammps/regressions.csv`):", "",
             _md_table(regressions[["build", "engine_version", "case", "role", "written as", "err_T", "err_A",
                                    "err_eps"]], ".4g"), ""]
+
+
+def _parts_section(case_reports: list, comparisons: list, calibration: bool) -> list[str]:
+    """Links to the study's other reports, each with its verdict: every case's own report, every
+    build comparison (its counts of regressions and fixes), the calibration (a section below)."""
+    if not (case_reports or comparisons or calibration):
+        return []
+    lines = ["## Every report of the study", ""]
+    if case_reports:
+        lines += ["Each case on its own (`snakemake -j2 <case>` gates on it): " + "; ".join(
+            f"[{r['case']}]({r['report']}) {r['verdict']} ({r['checked'] - r['failed']} of {r['checked']} checks)"
+            for r in case_reports) + ".", ""]
+    for c in comparisons:
+        baseline, candidate = c["pair"].split("_vs_", 1)
+        lines += [f"Build comparison [{baseline} → {candidate}]({c['report']}): {c['regression']} regressions, "
+                  f"{c['fix']} fixes, {c['unchanged']} unchanged (a report, not a gate).", ""]
+    if calibration:
+        lines += ["Calibration of eta from measured restitution: [its report](calibration/report.md), and the "
+                  "section \"Calibrating eta\" below.", ""]
+    return lines
 
 
 def _calibration_section(markdown_text: str, folder: str = "calibration") -> list[str]:

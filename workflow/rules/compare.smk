@@ -48,7 +48,7 @@ def build_pair_comparisons():
 rule compare_builds:
     """Two builds of this study, check by check (compare --builds): the regression cases of a
     defect fixed in the candidate show as fixes. A report, not a gate."""
-    input: candidate="results/checks.csv", baseline="results/checks.csv"
+    input: candidate="results/checks.csv", baseline="results/checks.csv", summary="results/summary.csv"
     output:
         csv="results/compare/{baseline}_vs_{candidate}/compare.csv",
         md="results/compare/{baseline}_vs_{candidate}/compare.md",
@@ -56,7 +56,8 @@ rule compare_builds:
         junit="results/compare/{baseline}_vs_{candidate}/compare-junit.xml",
     log: "logs/compare/{baseline}_vs_{candidate}.log"
     params: factor=config["compare_factor"], tolerance=config["tolerance"],
-            builds=lambda w: (w.baseline, w.candidate)
+            builds=lambda w: (w.baseline, w.candidate),
+            executables=lambda w: {b: BUILDS[b].executable for b in (w.baseline, w.candidate)}
     script: "../scripts/compare_studies.py"
 
 

@@ -23,32 +23,53 @@ EXTRA_REPORT_INPUTS = {
 }
 
 
-rule report:
-    """The checks and the verdict (verdict.json, junit.xml, checks.csv), report.md and .html."""
+rule checks:
+    """The checks and the verdict: checks.csv, junit.xml, verdict.json (postprocess.gate)."""
     input:
         summary="results/summary.csv",
+        manifests=expand("results/{case}/{build}/manifest.json", case=CASES, build=BUILD_IDS),
+        plans=expand("results/{case}/plan.json", case=CASES),
+        **{k: v for k, v in EXTRA_REPORT_INPUTS.items() if k == "regressions"},
+    output:
+        checks="results/checks.csv",
+        junit="results/junit.xml",
+        verdict="results/verdict.json",
+    log: "logs/checks.log"
+    params: tolerance=config["tolerance"]
+    priority: CRITICAL_PATH
+    script: "../scripts/study_checks.py"
+
+
+rule report:
+    """report.md and .html: the verdict of `checks`, the matrix, the plots, and links to every
+    case's report, every build comparison and the calibration."""
+    input:
+        summary="results/summary.csv",
+        checks="results/checks.csv",
+        verdict="results/verdict.json",
         series="results/reference/series.csv",
         reference="results/reference/collisions.csv",
         manifests=expand("results/{case}/{build}/manifest.json", case=CASES, build=BUILD_IDS),
         plans=expand("results/{case}/plan.json", case=CASES),
+        case_verdicts=expand("results/{case}/verdict.json", case=CASES),
+        case_reports=expand("results/{case}/report.md", case=CASES),
+        comparisons=lambda w: [str(Path(p).with_name("compare.csv")) for p in BUILD_PAIR_COMPARISONS],
         **EXTRA_REPORT_INPUTS,
     output:
         md="results/report.md",
         html="results/report.html",
-        checks="results/checks.csv",
-        junit="results/junit.xml",
-        verdict="results/verdict.json",
     log: "logs/report.log"
-    params: tolerance=config["tolerance"], builds={b: build_params(b) for b in BUILD_IDS}, ladder=config["ladder"]
-    # Its plots are drawn in two processes (postprocess.report.start_drawing): it runs last, when
-    # every other job is done (only the gate and the build comparison wait for it).
+    params: builds={b: build_params(b) for b in BUILD_IDS}, ladder=config["ladder"]
+    # Its plots are drawn in two processes (postprocess.report_plots.start_drawing): it runs last,
+    # when every other job is done (only the gate waits for it).
     threads: 2
     script: "../scripts/report.py"
 
 
 rule gate:
-    """The last step: gate.txt on PASS; on FAIL exits non-zero naming every failing check."""
-    input: verdict="results/verdict.json", summary="results/summary.csv"
+    """The last step: gate.txt on PASS; on FAIL exits non-zero naming every failing check, once
+    the report that shows them is written."""
+    input: verdict="results/verdict.json", summary="results/summary.csv", report="results/report.md"
     output: "results/gate.txt"
     log: "logs/gate.log"
     params: report="results/report.md"
@@ -56,17 +77,22 @@ rule gate:
 
 
 rule case_verdict:
-    """One case's checks and verdict (the study's gate applied to its runs alone)."""
+    """One case's checks and verdict (the study's gate applied to its runs alone) and its report
+    (results/<case>/report.md and .html, the study's matrix and plots for this case)."""
     input:
         summary="results/{case}/summary.csv",
         plan="results/{case}/plan.json",
         manifests=expand("results/{{case}}/{build}/manifest.json", build=BUILD_IDS),
+        series="results/reference/series.csv",
+        reference="results/reference/collisions.csv",
     output:
         checks="results/{case}/checks.csv",
         junit="results/{case}/junit.xml",
         verdict="results/{case}/verdict.json",
+        md="results/{case}/report.md",
+        html="results/{case}/report.html",
     log: "logs/{case}/verdict.log"
-    params: tolerance=config["tolerance"]
+    params: tolerance=config["tolerance"], builds={b: build_params(b) for b in BUILD_IDS}, ladder=config["ladder"]
     script: "../scripts/case_verdict.py"
 
 
@@ -74,5 +100,5 @@ rule case_gate:
     input: verdict="results/{case}/verdict.json", summary="results/{case}/summary.csv"
     output: "results/{case}/gate.txt"
     log: "logs/{case}/gate.log"
-    params: report="results/{case}/checks.csv"
+    params: report="results/{case}/report.md"
     script: "../scripts/gate.py"

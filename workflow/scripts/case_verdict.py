@@ -1,15 +1,19 @@
-"""Snakemake script: one case's checks and verdict (what `snakemake <case>` gates on).
+"""Snakemake script: one case's checks, verdict and report (what `snakemake <case>` gates on).
 
-The same checks as the study's (postprocess.gate), over this case's plan, summary and manifests.
-It withdraws nothing: it changes no result.
+The same checks as the study's (postprocess.gate), over this case's plan, summary and manifests,
+and the study's report (postprocess.report) of this case alone: results/<case>/report.md, .html
+and plots/. It changes no result of the study's.
 """
 
 import json
+from pathlib import Path
 
 import pandas as pd
 
 from common import log_to
+from engines.codes import CODES
 from postprocess.gate import gate_checks, verdict_of, write_junit, write_verdict
+from postprocess.report import ReportInputs, write_report
 from records.files import file_sha256
 from records.run_manifest import read_manifest
 
@@ -17,12 +21,23 @@ log = log_to(snakemake.log[0])
 tolerance = snakemake.params.tolerance
 plan = json.load(open(snakemake.input.plan))
 manifests = [read_manifest(m) for m in snakemake.input.manifests]
-failed = pd.DataFrame([{"engine": m["engine"], **f} for m in manifests for f in m["failed"]])
-checks = gate_checks(pd.read_csv(snakemake.input.summary), pd.DataFrame([{"case": plan["case"], **r}
-                                                                          for r in plan["runs"]]), failed, tolerance)
+failed = [{"case": plan["case"], "build": m.get("build", m["engine"]), "engine": m["engine"], **f}
+          for m in manifests for f in m["failed"]]
+table = pd.read_csv(snakemake.input.summary)
+checks = gate_checks(table, pd.DataFrame([{"case": plan["case"], **r} for r in plan["runs"]]), pd.DataFrame(failed),
+                     tolerance)
 verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
 write_junit(checks, snakemake.output.junit)
-write_verdict(verdict, snakemake.output.verdict)
+builds = list(snakemake.params.builds)
+code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b in snakemake.params.builds.values())}
+write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
+                          not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
+                          code_notes=code_notes, ladder=snakemake.params.ladder,
+                          reference=pd.read_csv(snakemake.input.reference),
+                          title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",
+                          folder=Path(snakemake.output.md).parent.as_posix()),
+             Path(snakemake.output.md).parent)
+write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
 log.info("%s: verdict %s (%d checks, %d failing)", plan["case"], verdict["verdict"], verdict["checked"],
          verdict["failed"])

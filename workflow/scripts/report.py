@@ -1,7 +1,7 @@
-"""Snakemake script: the verdict (verdict.json, junit.xml) and the comparison report with its plots.
+"""Snakemake script: the study's report (report.md, report.html and plots/).
 
-The checks are decided in `postprocess.gate` from the plans (what should exist), the summary
-(what landed) and the manifests (what failed); the report shows them, FAIL at the top.
+It shows the verdict the checks rule decided (checks.csv, verdict.json; postprocess.gate), FAIL
+at the top, and links every case's own report, every build comparison and the calibration.
 """
 
 import json
@@ -9,33 +9,38 @@ from pathlib import Path
 
 import pandas as pd
 
-from common import start_rule
+from common import log_to
 from engines.codes import CODES
-from postprocess.gate import gate_checks, regression_checks, verdict_of, write_junit, write_verdict
 from postprocess.report import ReportInputs, write_report
-from records.files import file_sha256
 from records.run_manifest import read_manifest
 
-log = start_rule(snakemake)
-tolerance = snakemake.params.tolerance
+log = log_to(snakemake.log[0])
+out = Path(snakemake.output.md).parent
 table = pd.read_csv(snakemake.input.summary)
-series = pd.read_csv(snakemake.input.series)
+checks = pd.read_csv(snakemake.input.checks)
+verdict = json.loads(Path(snakemake.input.verdict).read_text())
 manifests = [read_manifest(m) for m in snakemake.input.manifests]
 plans = [json.load(open(p)) for p in snakemake.input.plans]
-plan_runs = pd.DataFrame([{"case": p["case"], **r} for p in plans for r in p["runs"]])
 failed_runs = [{"case": m["case"], "build": m.get("build", m["engine"]), "engine": m["engine"], **f}
                for m in manifests for f in m["failed"]]
-checks = gate_checks(table, plan_runs, pd.DataFrame(failed_runs), tolerance)
-if "regressions" in snakemake.input.keys():  # the engines' known defects: reported, not gating
-    checks = pd.concat([checks, regression_checks(pd.read_csv(snakemake.input.regressions), tolerance)],
-                       ignore_index=True)
-verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
 timing = {"engine jobs": len(manifests),
           "engine process seconds (sum)": round(sum(m["engine_seconds"] for m in manifests), 2)}
 not_run = [row for p in plans for row in p["not_run"]]
 not_available = [row for p in plans for row in p.get("not_available", [])]  # plans from before codes had none
 builds = list(snakemake.params.builds)  # config order: the rows of the report's matrix
 code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b in snakemake.params.builds.values())}
+# The other reports, linked with their verdicts: each case's, each build comparison's.
+case_reports = []
+for path, report in zip(snakemake.input.case_verdicts, snakemake.input.case_reports):
+    v = json.loads(Path(path).read_text())
+    case_reports.append({"case": Path(path).parent.name, "verdict": v["verdict"], "checked": v["checked"],
+                         "failed": v["failed"], "report": Path(report).relative_to(out).as_posix()})
+comparisons = []
+for path in snakemake.input.comparisons:
+    status = pd.read_csv(path).status.value_counts()
+    folder = Path(path).parent
+    comparisons.append({"pair": folder.name, "report": (folder / "compare.html").relative_to(out).as_posix(),
+                        **{s: int(status.get(s, 0)) for s in ("regression", "fix", "unchanged", "new", "removed")}})
 optional = {key: pd.read_csv(snakemake.input[key])
             for key in ("convergence", "convergence_orders", "convergence_spread", "regressions", "claims", "table1",
                         "energy_check")
@@ -43,13 +48,8 @@ optional = {key: pd.read_csv(snakemake.input[key])
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
-out = Path(snakemake.output.md).parent
-checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
-write_report(ReportInputs(table, checks, verdict, series, timing, not_run, failed_runs, builds=builds,
-                          not_available=not_available, code_notes=code_notes, ladder=snakemake.params.ladder,
+write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), timing, not_run, failed_runs,
+                          builds=builds, not_available=not_available, code_notes=code_notes,
+                          ladder=snakemake.params.ladder, case_reports=case_reports, comparisons=comparisons,
                           **optional), out, workers=snakemake.threads)
-write_junit(checks, snakemake.output.junit)
-write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
-log.info("verdict: %s (%d checks, %d failing)", verdict["verdict"], verdict["checked"], verdict["failed"])
-for failure in verdict["failures"]:
-    log.warning("FAIL %s", failure)
+log.info("report for verdict %s: %s", verdict["verdict"], snakemake.output.md)

@@ -1,0 +1,34 @@
+"""Snakemake script: the study's checks and verdict (checks.csv, junit.xml, verdict.json).
+
+The checks are decided in `postprocess.gate` from the plans (what should exist), the summary
+(what landed) and the manifests (what failed); the report rule shows them, FAIL at the top.
+"""
+
+import json
+
+import pandas as pd
+
+from common import start_rule
+from postprocess.gate import gate_checks, regression_checks, verdict_of, write_junit, write_verdict
+from records.files import file_sha256
+from records.run_manifest import read_manifest
+
+log = start_rule(snakemake)
+tolerance = snakemake.params.tolerance
+table = pd.read_csv(snakemake.input.summary)
+manifests = [read_manifest(m) for m in snakemake.input.manifests]
+plans = [json.load(open(p)) for p in snakemake.input.plans]
+plan_runs = pd.DataFrame([{"case": p["case"], **r} for p in plans for r in p["runs"]])
+failed_runs = [{"case": m["case"], "build": m.get("build", m["engine"]), "engine": m["engine"], **f}
+               for m in manifests for f in m["failed"]]
+checks = gate_checks(table, plan_runs, pd.DataFrame(failed_runs), tolerance)
+if "regressions" in snakemake.input.keys():  # the engines' known defects: reported, not gating
+    checks = pd.concat([checks, regression_checks(pd.read_csv(snakemake.input.regressions), tolerance)],
+                       ignore_index=True)
+verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
+checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
+write_junit(checks, snakemake.output.junit)
+write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
+log.info("verdict: %s (%d checks, %d failing)", verdict["verdict"], verdict["checked"], verdict["failed"])
+for failure in verdict["failures"]:
+    log.warning("FAIL %s", failure)
