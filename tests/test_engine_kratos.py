@@ -63,7 +63,7 @@ def sweep(tmp_path_factory):
 @pytest.mark.parametrize("geometry", GEOMETRIES)
 def test_elastic_contact_is_hertz(sweep, geometry):
     spec, _, meta, m = sweep[("elastic", geometry, VELOCITY)]
-    assert meta["engine"] == "kratos" and meta["engine_version"] == VERSIONS["kratos-10.4"]
+    assert meta["engine"] == "kratos" and meta["engine_version"].startswith(VERSIONS["kratos-10.4"])  # + kernel
     assert len(meta["deck_sha256"]) == 64 and meta["represents"] == ["x0"]
     assert meta["engine_variables"]["restitution"] == 1.0 and meta["engine_variables"]["poisson"] == 0.0
     assert m.samples_in_contact >= 900  # T_e / dt = 1000 steps, tau = 2.94 delta_e / V

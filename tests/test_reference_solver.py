@@ -116,7 +116,7 @@ def test_a_failed_integration_is_an_error_naming_its_K_not_a_row_of_numbers():
     kernel = collision_ode._kernel()
     table, status = kernel.solve_batch(np.array([0.1, 1e300]))
     assert list(status) == [kernel.OK, kernel.STEP_FAILURE]
-    assert table[0, 6] == pytest.approx(0.904885783491945, rel=1e-13)  # eps_x0(0.1), README table
+    assert table[0, 6] == pytest.approx(0.904885783491945, rel=1e-13)  # eps_x0(0.1), docs/reference_solver.md table
     with pytest.raises(FloatingPointError, match=r"integration failed for K = \[1\.?e\+300\]"):
         collision_ode._solve_batch(np.array([0.1, 1e300]))
 

@@ -56,8 +56,7 @@ rule compare_builds:
         junit="results/compare/{baseline}_vs_{candidate}/compare-junit.xml",
     log: "logs/compare/{baseline}_vs_{candidate}.log"
     params: factor=config["compare_factor"], tolerance=config["tolerance"],
-            builds=lambda w: (w.baseline, w.candidate),
-            executables=lambda w: {b: BUILDS[b].executable for b in (w.baseline, w.candidate)}
+            builds=lambda w: (w.baseline, w.candidate)
     script: "../scripts/compare_studies.py"
 
 

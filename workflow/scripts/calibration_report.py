@@ -14,7 +14,7 @@ lines = ["# Calibrating eta from measured restitution", "",
          "Each measured case is fitted with the exact reference eps(K) under both criteria (95 % profile-likelihood "
          "intervals), beside the paper's second-order series; then run in a DEM engine at the measured velocities. "
          "Command: `snakemake -j2 calibration`. Method: `calibration/fit.py`; format of the measurement files: "
-         "`contact_model/measurement_file.py` and the README.", ""]
+         "`contact_model/measurement_file.py` and docs/calibration.md.", ""]
 summaries = [json.loads(Path(fit).read_text()) for fit in snakemake.input.fits]
 lines += ["**The answers** (eta for the engines' viscoelastic contact; the sections below say how):", ""]
 for summary in summaries:

@@ -7,6 +7,8 @@ the gate, which names it, so that the study still writes its report and JUnit XM
 engine stops the rule at once (that is set-up, not a verdict).
 """
 
+import shutil
+
 from common import start_rule
 from contact_model import GATED_LAWS
 from engines import run_sweep
@@ -31,6 +33,7 @@ for name, err in sweep.failures.items():
         log.warning("out-of-the-box run failed (reported, not gated): %s", err)
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs if r.name in sweep.dumps],
                sweep.failed_runs(runs),
-               case=case_name, build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds)
+               case=case_name, build=build.id, engine=build.code, engine_seconds=sweep.engine_seconds,
+               executable=shutil.which(build.executable) or build.executable)
 log.info("%d runs landed, %d failed; engine process %.2f s", len(sweep.dumps), len(sweep.failures),
          sweep.engine_seconds)
