@@ -68,3 +68,16 @@ def test_energy_partition_of_a_sampled_reference():
     r = solve_collision(K)
     end = np.argmax(t > r["tau_0"])
     assert e["dissipated"][end] == pytest.approx(r["dissipated_x0"], abs=1e-3)
+
+
+def test_figure_3_draws_a_study_of_more_cases_than_it_has_markers(tmp_path):
+    """Fig. 3 gives each case a marker; with a user's own cases beside the six shipped (ten here)
+    the markers cycle (it failed with a KeyError at the eighth case)."""
+    import pandas as pd
+
+    from postprocess.paper.figures import figure_3
+
+    rows = [{"case": f"case{i}", "build": "b", "law": "viscoelastic", "criterion": c, "dt": 0.0, "K": 0.1,
+             "eps": solve_collision(0.1)[f"eps_{c}"]} for i in range(10) for c in ("x0", "F0")]
+    figure_3(pd.DataFrame(rows), tmp_path / "fig3.png")
+    assert (tmp_path / "fig3.png").stat().st_size > 10_000

@@ -6,6 +6,8 @@ which the project does not have; it is not drawn.
 
 from __future__ import annotations
 
+import itertools
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -62,7 +64,9 @@ def figure_3(summary: pd.DataFrame, path) -> None:
     for criterion, ls in (("x0", "-"), ("F0", "-.")):
         ax.plot(K, hertz_ratios(t, criterion)["eps"], "k", ls=ls, lw=1, label=f"reference solver, {criterion}")
     ax.plot(K, paper_series_value("eps", K), "k--", lw=1, label="paper's series (eq. 6)")
-    markers = dict(zip(sorted(runs.case.unique()), "osD^vp*"))
+    # one marker per case, cycling: a study of more cases than markers (a user's own beside the
+    # six shipped) failed here with a KeyError
+    markers = dict(zip(sorted(runs.case.unique()), itertools.cycle("osD^vp*hX<>")))
     for (case, criterion), g in runs.groupby(["case", "criterion"]):
         ax.plot(g.K, g.eps, markers[case], mfc="none" if criterion == "x0" else None, ms=6, alpha=0.7,
                 label=f"{case}, {criterion} ({len(g)} runs)")
