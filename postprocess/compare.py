@@ -61,7 +61,9 @@ def load_checks(path, tolerance: dict = DEFAULT_TOLERANCE) -> pd.DataFrame:
     except (OSError, ValueError) as err:
         raise CompareError(f"{path}: cannot read it as CSV ({err})")
     table = with_build(table)  # a study from before builds: each code was its own build
-    if set(KEY + ["max_abs_error", "pass"]) <= set(table.columns):
+    # checks.csv of a study from before the column said what it holds (a relative error)
+    table = table.rename(columns={"max_abs_error": "max_rel_error"})
+    if set(KEY + ["max_rel_error", "pass"]) <= set(table.columns):
         return table  # a checks.csv
     needed = set(GROUP + ["K", "case"] + [f"err_{q}" for q in GATED_QUANTITIES])
     if not needed <= set(table.columns):
@@ -96,10 +98,10 @@ def compare_checks(baseline: pd.DataFrame, candidate: pd.DataFrame, factor: floa
     (candidate / baseline error) and status (regression, fix, unchanged, new, removed)."""
     baseline, candidate = with_build(baseline), with_build(candidate)
     baseline, candidate = (t if "resolution" in t.columns else t.assign(resolution=0.0) for t in (baseline, candidate))
-    b = baseline[KEY + ["max_abs_error", "pass", "resolution"]].rename(
-        columns={"max_abs_error": "baseline_error", "pass": "baseline_pass", "resolution": "baseline_resolution"})
-    c = candidate[KEY + ["max_abs_error", "pass", "reason", "resolution"]].rename(
-        columns={"max_abs_error": "candidate_error", "pass": "candidate_pass", "reason": "candidate_reason",
+    b = baseline[KEY + ["max_rel_error", "pass", "resolution"]].rename(
+        columns={"max_rel_error": "baseline_error", "pass": "baseline_pass", "resolution": "baseline_resolution"})
+    c = candidate[KEY + ["max_rel_error", "pass", "reason", "resolution"]].rename(
+        columns={"max_rel_error": "candidate_error", "pass": "candidate_pass", "reason": "candidate_reason",
                  "resolution": "candidate_resolution"})
     both = b.merge(c, on=KEY, how="outer", indicator=True)
     rows = []

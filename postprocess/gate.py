@@ -37,10 +37,10 @@ GATED_QUANTITIES = ("T", "A", "eps")
 GROUP = ["build", "law", "geometry", "criterion"]
 #: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
 #: or is reported only (an engine's regression cases, `regression_checks`). For the ladder with
-#: the largest |extrapolated error| (max_abs_error, at_K, case, at_run): its observed order, its
+#: the largest |extrapolated error| (max_rel_error, at_K, case, at_run): its observed order, its
 #: rungs' T_e / dt and raw errors (coarsest first); resolution is the largest of the group's.
 CHECK_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "quantity", "planned", "landed", "failed",
-                 "max_abs_error", "resolution", "at_K", "case", "at_run", "tolerance", "pass", "reason", "gates",
+                 "max_rel_error", "resolution", "at_K", "case", "at_run", "tolerance", "pass", "reason", "gates",
                  "observed_order", "rung_factors", "rung_errors"]
 
 
@@ -118,7 +118,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
     Returns
     -------
     DataFrame, one row per check, sorted by GROUP and quantity, with the columns CHECK_COLUMNS:
-    planned, landed, failed count ladders; max_abs_error is the largest |extrapolated error|
+    planned, landed, failed count ladders; max_rel_error is the largest |extrapolated error|
     (NaN without a result), at_K, case and at_run (the ladder's name) say where; resolution is
     the largest resolution of the group's ladders; pass (bool) and reason (why it failed; empty
     when it passed).
@@ -146,7 +146,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
         problems = [p for p in flawed if p]
         for q in GATED_QUANTITIES:
             row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q,
-                   "planned": n_planned, "landed": n_landed, "failed": n_failed, "max_abs_error": math.nan,
+                   "planned": n_planned, "landed": n_landed, "failed": n_failed, "max_rel_error": math.nan,
                    "resolution": math.nan, "at_K": math.nan, "case": "", "at_run": "",
                    "tolerance": float(tolerance[q]), "pass": False, "reason": "", "gates": True,
                    "observed_order": math.nan, "rung_factors": "", "rung_errors": ""}
@@ -160,7 +160,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
                 shown = np.where(sound, errors, np.nan) if sound.any() else errors  # a flawed limit is no error
                 i = int(np.nanargmax(np.abs(shown))) if not np.isnan(shown).all() else 0
                 worst = sel.iloc[i]
-                row.update(max_abs_error=float(abs(errors[i])), resolution=float(res.max()) if known else math.nan,
+                row.update(max_rel_error=float(abs(errors[i])), resolution=float(res.max()) if known else math.nan,
                            at_K=float(worst.K),
                            case=str(worst.case), at_run=str(worst.ladder),
                            observed_order=float(worst.get(f"order_{q}", math.nan)),
@@ -240,7 +240,7 @@ def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFram
                                f"{control_error:.3e}; {why}")
             rows.append({"build": build, "engine": "", "law": f"regression:{case}", "geometry": user.geometry,
                          "criterion": "x0", "quantity": q, "planned": 1, "landed": 0 if failed else 1,
-                         "failed": 1 if failed else 0, "max_abs_error": error, "resolution": resolution,
+                         "failed": 1 if failed else 0, "max_rel_error": error, "resolution": resolution,
                          "at_K": float(user.K), "case": f"regression:{case}", "at_run": user.run,
                          "tolerance": float(tolerance[q]), "pass": not reasons, "reason": "; ".join(reasons),
                          "gates": False, "rung_errors": str(user.get(f"rungs_{q}", "")) if not failed else ""})
@@ -297,8 +297,8 @@ def junit_xml(checks: pd.DataFrame, suite: str = "hertz-dem-gate") -> ET.Element
     for i, r in checks.iterrows():
         case = ET.SubElement(ts, "testcase", classname=".".join(str(r[k]) for k in GROUP), name=str(r["quantity"]),
                              time="0")
-        measured = ("no result" if math.isnan(r["max_abs_error"]) else
-                    f"max |relative error| {r['max_abs_error']:.3e} (tolerance {r['tolerance']:g}) at K = "
+        measured = ("no result" if math.isnan(r["max_rel_error"]) else
+                    f"max |relative error| {r['max_rel_error']:.3e} (tolerance {r['tolerance']:g}) at K = "
                     f"{r['at_K']:.4g}, case {r['case']}; {r['landed']} of {r['planned']} runs landed")
         if not r["pass"] and not gates[i]:
             ET.SubElement(case, "skipped", message=f"reported, not gated (a known defect of this build): {r['reason']}")

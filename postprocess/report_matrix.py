@@ -93,7 +93,7 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
     ----------
     checks : DataFrame
         `postprocess.gate.gate_checks` (results/checks.csv): build, engine, law, geometry,
-        criterion, quantity, max_abs_error, tolerance, pass, case, at_K, at_run (optional),
+        criterion, quantity, max_rel_error, tolerance, pass, case, at_K, at_run (optional),
         reason.
     not_available : DataFrame or iterable of dict
         The plans' ``not_available`` cells (build, engine, law, geometry, reason): a law the
@@ -109,7 +109,7 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
     order), geometry, criterion (x0, F0):
 
     - status: 'pass' (every check of the cell passes), 'fail' or 'n/a';
-    - worst_error: max over the cell's quantities of max_abs_error (NaN when no run of the
+    - worst_error: max over the cell's quantities of max_rel_error (NaN when no run of the
       cell gave a result, or n/a);
     - worst_quantity: the quantity of worst_error ('T', 'A' or 'eps'; '' when NaN);
     - tolerance: the tolerance of worst_quantity;
@@ -125,7 +125,7 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
     if len(checks):
         for key, group in checks.groupby(["build", "law", "geometry", "criterion"], sort=False):
             group = group.iloc[np.argsort(_rank(group.quantity, GATED_QUANTITIES), kind="stable")]
-            errors = group.max_abs_error.to_numpy(dtype=float)
+            errors = group.max_rel_error.to_numpy(dtype=float)
             worst = group.iloc[int(np.nanargmax(errors))] if not np.isnan(errors).all() else None
             passed = group["pass"].astype(bool)
             failing = group[~passed.to_numpy()]
@@ -133,7 +133,7 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
             cells.append({**dict(zip(["build", "law", "geometry", "criterion"], key)),
                           "engine": group.engine.iloc[0],
                           "status": "pass" if passed.all() else "fail",
-                          "worst_error": math.nan if worst is None else float(worst.max_abs_error),
+                          "worst_error": math.nan if worst is None else float(worst.max_rel_error),
                           "worst_quantity": "" if worst is None else str(worst.quantity),
                           "tolerance": math.nan if worst is None else float(worst.tolerance),
                           "failing": ", ".join(failing.quantity.astype(str)),

@@ -12,8 +12,8 @@ GROUP = {"engine": "lammps", "law": "viscoelastic", "geometry": "sphere-sphere",
 
 
 def checks(**errors):
-    """A checks table: quantity -> (max_abs_error, pass)."""
-    return pd.DataFrame([{**GROUP, "quantity": q, "max_abs_error": e, "pass": ok, "reason": "" if ok else "x"}
+    """A checks table: quantity -> (max_rel_error, pass)."""
+    return pd.DataFrame([{**GROUP, "quantity": q, "max_rel_error": e, "pass": ok, "reason": "" if ok else "x"}
                          for q, (e, ok) in errors.items()])
 
 
@@ -47,7 +47,7 @@ def test_summary_and_checks_give_the_same_checks(tmp_path):
     table.to_csv(tmp_path / "summary.csv", index=False)
     from_summary = load_checks(tmp_path / "summary.csv")
     t = from_summary.set_index(["criterion", "quantity"]).loc[("x0", "T")]
-    assert t.max_abs_error == pytest.approx(7e-4) and not t["pass"] and t.at_K == 0.2
+    assert t.max_rel_error == pytest.approx(7e-4) and not t["pass"] and t.at_K == 0.2
     (tmp_path / "results").mkdir()
     from_summary.to_csv(tmp_path / "results" / "checks.csv", index=False, float_format="%.12g")
     again = load_checks(tmp_path / "results")

@@ -61,7 +61,7 @@ def test_worst_ladder_decides_and_the_boundary_counts_the_resolution():
     checks = gate_checks(table, plan(*[(n, "lammps", "viscoelastic", "sphere-sphere") for n in "abc"]),
                          no_failures(), TOL).set_index(["criterion", "quantity"])
     t = checks.loc[("x0", "T")]
-    assert not t["pass"] and t.max_abs_error == pytest.approx(6e-6) and t.at_K == 0.3 and t.at_run == "b"
+    assert not t["pass"] and t.max_rel_error == pytest.approx(6e-6) and t.at_K == 0.3 and t.at_run == "b"
     assert t.resolution == pytest.approx(1e-7)
     assert t.reason.startswith("6.000e-06 > 1e-06 (resolution 1.0e-07; case steel, K = 0.3)")
     assert checks.loc[("x0", "A"), "pass"]  # 9e-7 + 1e-7 = the tolerance: passes
@@ -100,7 +100,7 @@ def test_a_misaligned_ladder_fails_its_checks_with_the_reason_and_is_not_judged_
                                                                             "sphere-sphere")), no_failures(), TOL)
     t = both[(both.criterion == "x0") & (both.quantity == "T")].iloc[0]
     assert t.reason.startswith("misaligned ladder") and "3.000e-06 > 1e-06" in t.reason
-    assert t.max_abs_error == pytest.approx(3e-6) and t.at_run == "b"
+    assert t.max_rel_error == pytest.approx(3e-6) and t.at_run == "b"
 
 
 def test_a_failed_rung_fails_its_ladders_checks_naming_run_and_log():
@@ -125,7 +125,7 @@ def test_a_planned_run_with_no_result_fails_and_a_group_with_none_fails():
     assert (not lammps["pass"].any()
             and lammps.reason.str.contains(r"1 of 2 planned ladders have no result \(first: b\)").all())
     yade = checks[checks.engine == "yade"]
-    assert len(yade) == 3 and not yade["pass"].any() and yade.max_abs_error.isna().all()
+    assert len(yade) == 3 and not yade["pass"].any() and yade.max_rel_error.isna().all()
 
 
 def test_nan_error_fails_and_empty_study_is_not_a_pass():
