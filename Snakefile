@@ -131,7 +131,7 @@ wildcard_constraints:
 # Bad case files and builds, every one named with what to do, stop the workflow before any job
 # starts, with their messages alone: a WorkflowError would add the lines of the Snakefile and
 # includes it was raised in, which say nothing about the user's files.
-check_case_names(CASES, {r.name for r in workflow.rules})
+SETUP_PROBLEMS += case_name_problems(CASES, {r.name for r in workflow.rules})
 if SETUP_PROBLEMS:
     sys.exit("\n\n".join(SETUP_PROBLEMS))
 

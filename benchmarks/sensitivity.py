@@ -28,6 +28,7 @@ from pathlib import Path
 import pandas as pd
 
 from contact_model import load_case
+from engines.codes import CODES
 from engines.lammps import TANGENTIAL, run_lammps
 from engines.plan import plan_at_velocity, rungs_of
 from engines.script_engine import number
@@ -59,7 +60,7 @@ def ladders():
 
 def model(spec, parameter: str, s: float) -> str:
     """The granular model words of `spec` with `parameter` scaled by (1 + s)."""
-    p = spec.pair.engine_parameters("lammps")
+    p = CODES["lammps"].contact_parameters(spec.pair)
     kn = p["kn"] * (1 + s if parameter == "kn" else 1)
     eta = p["eta_n0"] * (1 + s if parameter == "eta_n0" else 1)
     return f"hertz {number(kn)} {number(eta)} damping viscoelastic {TANGENTIAL}"

@@ -37,12 +37,12 @@ from scipy import optimize
 
 from contact_model import ContactPair
 from contact_model.case_file import Case
+from contact_model.quantities import POISE
 from engines.codes import CODES
 from reference.restitution_closed_forms import paper_series
 
 from .fit import CRITERIA, K_MAX, Fit, exact_restitution, f_survival, falling_range, fit_restitution
 
-POISE = 0.1  # Pa s
 #: The codes whose parameters of the calibrated contact are reported: those that run the
 #: viscoelastic law (engines.codes; ESyS clips it, Kratos cannot express it).
 ENGINES = tuple(name for name, c in CODES.items() if "viscoelastic" not in c.unavailable)

@@ -19,8 +19,8 @@ import pandas as pd  # noqa: E402
 
 from contact_model import CRITERIA  # noqa: E402
 from contact_model.case_file import Case  # noqa: E402
+from contact_model.quantities import POISE  # noqa: E402
 
-from .case_calibration import POISE  # noqa: E402
 from .fit import WARN_CHI2_RED, Fit, exact_restitution  # noqa: E402
 from .loop import LOOP_LAW  # noqa: E402
 

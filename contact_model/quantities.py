@@ -37,6 +37,9 @@ DIMENSIONS = {
     "velocity": ("[length] / [time]", "m/s"),
 }
 
+#: One poise in SI [Pa s]: the paper's unit of viscosity.
+POISE = 0.1
+
 #: The units a user most likely means, per dimension: what a "did you mean" picks from.
 COMMON_UNITS = {
     "[pressure]": ("Pa", "kPa", "MPa", "GPa", "bar", "psi"),

@@ -17,9 +17,7 @@ import sys
 
 from .case_file import load_case
 from .collision_scales import viscosity_for_dissipation
-from .quantities import CaseError, quantity
-
-POISE = 0.1  # Pa s
+from .quantities import POISE, CaseError, quantity
 
 
 def viscosity_table(case, K_values, velocities) -> list[dict]:

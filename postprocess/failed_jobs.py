@@ -15,11 +15,12 @@ of an earlier run would even read its PASS. So the Snakefile's `onerror` hands S
 The rules whose failure *is* a verdict (the gates: they exit non-zero on FAIL, after writing it)
 are not lost jobs and are left out.
 
-Standard library only: the Snakefile imports it.
+Light (the standard library and engines.engine_process's log reading): the Snakefile imports it.
 """
 
 from __future__ import annotations
 
+import html
 import json
 import re
 import shutil
@@ -28,6 +29,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from engines.engine_process import log_tail
 from records.files import write_atomically
 
 #: The JUnit test suite the study's gate writes (postprocess.gate.junit_xml).
@@ -205,14 +207,6 @@ def _bytes(size: str) -> float:
     return float(m[1]) * 1024 ** " KMGTP".index(m[2] or " ")
 
 
-def log_tail(path, n: int = LOG_LINES) -> list[str]:
-    try:
-        lines = Path(path).read_text(errors="replace").splitlines()
-    except OSError:
-        return []
-    return [line.rstrip() for line in lines if line.strip()][-n:]
-
-
 #: The line a Python traceback ends with ('records.dump_file.DumpError: ...').
 _EXCEPTION = re.compile(r"^(?:[\w.]+\.)?(\w*(?:Error|Exception|Exit|Interrupt))(?:: (.*))?$")
 
@@ -236,7 +230,7 @@ def job_failure(job: FailedJob, wildcards: dict[str, str], sacct: str | None = N
             reason = slurm_reason(rows, next((p for p in job.logs if p.endswith(f"/{job.external_jobid}.log")), None))
     # The rule's own log says where the job was; a cluster job that died before its rule's log
     # (e.g. in the workflow's start inside the job) left it in its SLURM log.
-    tail = next((t for t in map(log_tail, job.logs) if t), [])
+    tail = next((t for t in (log_tail(p, LOG_LINES) for p in job.logs) if t), [])
     return {"job": describe(job, wildcards), "rule": job.rule, "wildcards": wildcards, "reason": reason,
             "slurm_job": job.external_jobid, "logs": job.logs, "log_tail": tail}
 
@@ -284,20 +278,18 @@ def _merge_junit(path: Path, failures: list[dict]) -> None:
 
 
 def _merge_report(results: Path, section: str) -> None:
-    md, html = results / "report.md", results / "report.html"
+    md, page_path = results / "report.md", results / "report.html"
     try:
         old = md.read_text()
     except OSError:
         old = ""
     write_atomically(md, (f"# Hertz DEM comparison report\n\n{section}" if not old else
                           re.sub(r"\A(# [^\n]*\n\n)?", lambda m: f"{m.group(0)}{section}\n", old, count=1)))
-    import html as html_lib
-
-    items = "".join(f"<li>{html_lib.escape(line[2:])}</li>" for line in section.splitlines() if line.startswith("- "))
+    items = "".join(f"<li>{html.escape(line[2:])}</li>" for line in section.splitlines() if line.startswith("- "))
     block = (f"<section class='lost-jobs'><h2>The workflow did not finish: FAIL</h2><p>"
-             f"{html_lib.escape(section.splitlines()[2])}</p><ul>{items}</ul></section>")
+             f"{html.escape(section.splitlines()[2])}</p><ul>{items}</ul></section>")
     try:
-        page = html.read_text()
+        page = page_path.read_text()
     except OSError:
         page = ""
     if "<body>" in page:
@@ -305,7 +297,7 @@ def _merge_report(results: Path, section: str) -> None:
     else:
         page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
                 f"</head><body>{block}</body></html>")
-    write_atomically(html, page)
+    write_atomically(page_path, page)
 
 
 def record_failed_jobs(log_path, results_dir="results", output_patterns: dict | None = None,

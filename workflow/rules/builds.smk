@@ -36,11 +36,16 @@ BUILD_IDS = list(BUILDS)
 LAMMPS_BUILDS = [b for b, build in BUILDS.items() if build.code == "lammps"]
 
 
+def viscoelastic_builds():
+    """The ids of the builds whose code can run the viscoelastic law (engines/codes.py), in order."""
+    return [b for b, build in BUILDS.items() if "viscoelastic" not in CODES[build.code].unavailable]
+
+
 def calibration_build_problem():
     """Why config calibration.engine names no build that can close the calibration's loop (it
     runs the calibrated viscoelastic contact), with the fix; None when it does."""
     wanted = config["calibration"]["engine"]
-    able = [b for b, build in BUILDS.items() if "viscoelastic" not in CODES[build.code].unavailable]
+    able = viscoelastic_builds()
     if wanted is None:
         return None if able else ("config 'calibration.engine': no build of this run can run the viscoelastic law "
                                   "(engines/codes.py); add one to `builds:`, or leave `calibration` out of `extras:`")
@@ -56,7 +61,7 @@ def calibration_build():
     first build that can run the viscoelastic law (calibration_build_problem refuses the others)."""
     wanted = config["calibration"]["engine"]
     if wanted is None:
-        wanted = next(b for b, build in BUILDS.items() if "viscoelastic" not in CODES[build.code].unavailable)
+        wanted = viscoelastic_builds()[0]
     return BUILDS[wanted]
 
 

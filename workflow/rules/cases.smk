@@ -12,17 +12,19 @@ def case_files():
     return {Path(f).stem: f for f in files}
 
 
-def check_case_names(cases, rule_names):
-    """A case's file name is its target (`snakemake steel`) and its results folder: refuse a
-    name that cannot be one, rather than skip it or break the workflow."""
+def case_name_problems(cases, rule_names):
+    """A case's file name is its target (`snakemake steel`) and its results folder: the problem
+    of each name that cannot be one (refused, rather than skipped or left to break the workflow)."""
+    problems = []
     for name, path in cases.items():
         if not CASE_NAME.fullmatch(name):
-            raise WorkflowError(f"{path}: the file name {name!r} cannot name a case: it is the case's target and "
-                             "results folder, so use letters, digits and underscores, starting with a letter "
-                             f"(e.g. {re.sub(r'[^A-Za-z0-9_]+', '_', name).strip('_') or 'case_1'}.yaml)")
-        if name in rule_names:
-            raise WorkflowError(f"{path}: the file name {name!r} is taken by the workflow's rule '{name}'; rename the "
-                             f"case file (e.g. {name}_case.yaml)")
+            problems.append(f"{path}: the file name {name!r} cannot name a case: it is the case's target and "
+                            "results folder, so use letters, digits and underscores, starting with a letter "
+                            f"(e.g. {re.sub(r'[^A-Za-z0-9_]+', '_', name).strip('_') or 'case_1'}.yaml)")
+        elif name in rule_names:
+            problems.append(f"{path}: the file name {name!r} is taken by the workflow's rule '{name}'; rename the "
+                            f"case file (e.g. {name}_case.yaml)")
+    return problems
 
 
 def requested():
@@ -35,6 +37,15 @@ def requested():
     except (SystemExit, Exception):
         return None, None
     return list(args.targets or ()), list(args.target_jobs or ())
+
+
+def _case_of(target, case_names):
+    """The case a target belongs to: its own target (`rubber`) or a file under results/<case>/;
+    None for a target of the whole study."""
+    parts = Path(target).parts
+    if target in case_names:
+        return target
+    return parts[1] if len(parts) > 2 and parts[0] == "results" and parts[1] in case_names else None
 
 
 def cases_requested(case_names):
@@ -50,13 +61,10 @@ def cases_requested(case_names):
             return set(case_names)
         needed.add(job.wildcards_dict["case"])
     for target in targets:
-        parts = Path(target).parts
-        if target in case_names:
-            needed.add(target)
-        elif len(parts) > 2 and parts[0] == "results" and parts[1] in case_names:
-            needed.add(parts[1])
-        else:  # `all`, another rule, another file: the whole study
+        case = _case_of(target, case_names)
+        if case is None:  # `all`, another rule, another file: the whole study
             return set(case_names)
+        needed.add(case)
     return needed
 
 
@@ -71,14 +79,8 @@ def calibration_requested(case_names):
         return any("case" not in j.wildcards_dict for j in jobs)
     if not targets:
         return "calibration" in EXTRAS
-    for target in targets:
-        parts = Path(target).parts
-        if target in case_names or (len(parts) > 2 and parts[0] == "results" and parts[1] in case_names):
-            continue
-        if target == "all" and "calibration" not in EXTRAS:
-            continue
-        return True
-    return False
+    return any(_case_of(t, case_names) is None and not (t == "all" and "calibration" not in EXTRAS)
+               for t in targets)
 
 
 def load_cases(files):
