@@ -12,6 +12,9 @@ of them drains its node.
 """
 
 import json
+import os
+import shutil
+import socket
 import subprocess
 import sys
 import time
@@ -20,8 +23,8 @@ from pathlib import Path
 
 import pytest
 
-from engine_cases import require_engine
-from slurm_cluster import (CLUSTER, finish, jobs_of, queued_jobs_of, require_slurm, run_workflow, slurm,
+from engine_cases import missing, require_engine
+from slurm_cluster import (CLUSTER, SLURM_CONF, finish, jobs_of, queued_jobs_of, require_slurm, run_workflow, slurm,
                            start_workflow, wait_for)
 from test_study_failures import CASE, faulty_lammps
 from workflow_copy import copy_workflow
@@ -29,6 +32,8 @@ from workflow_copy import copy_workflow
 pytestmark = pytest.mark.xdist_group("slurm")
 
 ROOT = Path(__file__).resolve().parents[1]
+#: Where a job's srun finds the cluster's config (profiles/slurm/local_cluster.sh, CLIENT_CONF).
+CLIENT_CONF = Path("/run/slurm/conf/slurm.conf")
 LAMMPS = "{id: lammps, code: lammps, executable: lmp}"
 ESYS = "{id: esys, code: esys, executable: esysparticle}"
 SMALL = ["laws=[viscoelastic]", "extras=[]", "compare_builds=[]"]
@@ -179,17 +184,76 @@ def test_a_drained_node_holds_the_jobs_until_it_is_resumed(cluster, tmp_path):
     assert all(j["State"] == "COMPLETED" for j in jobs_of(project, cluster, since))
 
 
-def test_local_cluster_script_is_idempotent_and_refuses_a_second_cluster_on_its_ports(cluster, tmp_path):
+def test_local_cluster_script_is_idempotent_and_refuses_a_second_cluster(cluster, tmp_path):
     again = subprocess.run([str(CLUSTER), "up"], capture_output=True, text=True, timeout=120)
     assert again.returncode == 0 and "already running" in again.stdout
     state = tmp_path / "second"
     env = {**cluster, "SLURM_LOCAL_DIR": str(state)}
     second = subprocess.run([str(CLUSTER), "up"], capture_output=True, text=True, timeout=120, env=env)
-    assert second.returncode != 0 and "is in use by another process" in second.stderr
-    assert "port 6820 (for MariaDB)" in second.stderr  # the first port it checks; nothing was started
+    # The running cluster's client link is the first thing it meets; it names the way to stop it.
+    assert second.returncode != 0, second.stdout
+    assert (f"{CLIENT_CONF} links to {SLURM_CONF}, the config of another local cluster that still runs"
+            in second.stderr), second.stderr
+    assert f"SLURM_LOCAL_DIR={SLURM_CONF.parents[1]} " in second.stderr
     status = subprocess.run([str(CLUSTER), "status"], capture_output=True, text=True, timeout=60, env=env)
     assert status.stdout.count("not running") == 5
+    assert CLIENT_CONF.resolve() == SLURM_CONF  # left as it was
     (state / "run").mkdir(parents=True)
     (state / "run" / "slurmd.pid").write_text("999999\n")
     stale = subprocess.run([str(CLUSTER), "status"], capture_output=True, text=True, timeout=60, env=env)
     assert "stale pid file" in stale.stderr and not (state / "run" / "slurmd.pid").exists()
+
+
+def cluster_script(*args, env=None) -> subprocess.CompletedProcess:
+    return subprocess.run([str(CLUSTER), *args], capture_output=True, text=True, timeout=180, env=env)
+
+
+def test_what_a_stopped_cluster_left_in_run_is_replaced_and_what_another_owns_is_refused(cluster, tmp_path):
+    """/run outlives the daemons: a session or CI job that ended with its cluster up leaves its
+    client link behind, pointing at its own clone. The next clone's cluster must replace it (CI on
+    a clean clone was refused by exactly that), but never a file it did not write, nor start
+    anything where one of its ports is taken."""
+    if os.geteuid() != 0:
+        missing("writing /run/slurm/conf needs root (CI runs as root); run this test as root")
+    down = cluster_script("down")
+    assert down.returncode == 0 and not CLIENT_CONF.is_symlink(), down.stdout + down.stderr
+    other = tmp_path / "clone" / ".slurm" / "etc" / "slurm.conf"
+    other.parent.mkdir(parents=True)
+    other.write_text("# Written by profiles/slurm/local_cluster.sh: a single-node cluster for the study's tests.\n"
+                     f"SlurmctldPidFile={tmp_path}/clone/.slurm/run/slurmctld.pid\n")
+    try:
+        # A link to another clone's config whose slurmctld no longer runs, then one whose clone is gone.
+        for planted in ("stopped", "deleted"):
+            if planted == "deleted":
+                shutil.rmtree(tmp_path / "clone")
+            CLIENT_CONF.parent.mkdir(parents=True, exist_ok=True)
+            CLIENT_CONF.symlink_to(other)
+            up = cluster_script("up")
+            assert up.returncode == 0, up.stdout + up.stderr
+            assert (f"replacing {CLIENT_CONF}, a link to {other} left by a local cluster that no longer runs"
+                    in up.stdout), (planted, up.stdout)
+            assert Path(os.readlink(CLIENT_CONF)) == SLURM_CONF
+            assert cluster_script("down").returncode == 0
+
+        # A file it did not write (a configless slurmd's cache): refused, left alone, nothing started.
+        CLIENT_CONF.write_text("ClusterName=elsewhere\n")
+        refused = cluster_script("up")
+        assert refused.returncode != 0
+        assert f"{CLIENT_CONF} exists and is not this cluster's" in refused.stderr, refused.stderr
+        assert CLIENT_CONF.read_text() == "ClusterName=elsewhere\n"
+        assert cluster_script("status").stdout.count("not running") == 5
+        CLIENT_CONF.unlink()
+
+        # slurmd's port taken by another process: refused before any daemon starts (it is checked last).
+        with socket.socket() as taken:
+            taken.bind(("127.0.0.1", 6818))
+            taken.listen()
+            refused = cluster_script("up")
+        assert refused.returncode != 0 and "port 6818 (for slurmd) is in use by another process" in refused.stderr
+        assert cluster_script("status").stdout.count("not running") == 5
+    finally:
+        if CLIENT_CONF.is_symlink() or CLIENT_CONF.exists():
+            if Path(os.readlink(CLIENT_CONF) if CLIENT_CONF.is_symlink() else "") != SLURM_CONF:
+                CLIENT_CONF.unlink()
+        restored = cluster_script("up")
+        assert restored.returncode == 0, restored.stdout + restored.stderr

@@ -162,14 +162,46 @@ EOF
   chmod 600 "$ETC/slurmdbd.conf"   # slurmdbd refuses a config others can read (it holds a password)
 }
 
+# What is at CLIENT_CONF: nothing ("none"), this cluster's link ("ours"), a link this script made
+# for another local cluster (another clone's, or another SLURM_LOCAL_DIR's) that still runs
+# ("running") or no longer does ("stale": its config is gone, or the slurmctld its config names
+# is not running), or anything else ("foreign": a configless slurmd's cache, say). /run outlives
+# the daemons (a session or a CI job that ended without `down`, a killed test run), and a stale
+# link must not block every later cluster on the machine.
+client_config_state() {
+  if [ ! -e "$CLIENT_CONF" ] && [ ! -L "$CLIENT_CONF" ]; then echo none; return; fi
+  local target pidf pid
+  target=$(readlink "$CLIENT_CONF")
+  if [ "$target" = "$ETC/slurm.conf" ]; then echo ours; return; fi
+  if [ -L "$CLIENT_CONF" ] && [ ! -e "$target" ]; then echo stale; return; fi
+  if [ -z "$target" ] || ! head -1 "$target" | grep -q '^# Written by profiles/slurm/local_cluster.sh'; then
+    echo foreign; return
+  fi
+  pidf=$(sed -n 's/^SlurmctldPidFile=//p' "$target")
+  pid=$(cat "$pidf" 2>/dev/null | tr -dc 0-9)
+  if [ -n "$pid" ] && [ "$(cat "/proc/$pid/comm" 2>/dev/null)" = slurmctld ]; then echo running; else echo stale; fi
+}
+
 # Point the clients that run without SLURM_CONF (a job's inner srun) at this cluster's config: a
 # link at CLIENT_CONF. Refused where the machine has a SLURM config of its own, which they would
-# read instead (/etc/slurm/slurm.conf comes first) or which the link would replace.
-link_client_config() {
+# read instead (/etc/slurm/slurm.conf comes first) or which the link would replace, and where
+# another local cluster still runs; a link left by one that has stopped is replaced.
+check_client_config() {
   [ -e /etc/slurm/slurm.conf ] && die "this machine has a SLURM config of its own, /etc/slurm/slurm.conf;
   a job's srun (started by the Snakemake plugin without SLURM_CONF) would read it instead of $ETC/slurm.conf"
-  if [ -e "$CLIENT_CONF" ] && [ "$(readlink "$CLIENT_CONF")" != "$ETC/slurm.conf" ]; then
-    die "$CLIENT_CONF exists and is not this cluster's (a configless slurmd of another cluster?); not replaced"
+  local target
+  target=$(readlink "$CLIENT_CONF")
+  case $(client_config_state) in
+    running) die "$CLIENT_CONF links to $target, the config of another local cluster that still runs;
+  stop it first: SLURM_LOCAL_DIR=$(dirname "$(dirname "$target")") $0 down" ;;
+    foreign) die "$CLIENT_CONF exists and is not this cluster's (a configless slurmd of another cluster?); not replaced" ;;
+  esac
+  return 0
+}
+
+link_client_config() {
+  if [ "$(client_config_state)" = stale ]; then
+    say "replacing $CLIENT_CONF, a link to $(readlink "$CLIENT_CONF") left by a local cluster that no longer runs"
   fi
   local sudo=""
   [ "$(id -u)" = 0 ] || sudo=sudo   # /run is root's: the one step of a user's cluster that needs it
@@ -264,6 +296,7 @@ up() {
   if all_running && sinfo -h -n "$NODE" -o %t 2>/dev/null | grep -qx idle; then
     say "already running (node $NODE idle; state in $STATE)"
   else
+    check_client_config
     check_ports
     write_config
     link_client_config
