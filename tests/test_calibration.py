@@ -8,11 +8,12 @@ import textwrap
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from calibration.case_calibration import calibrate
 from calibration.fit import (CalibrationError, exact_restitution, falling_range, fit_restitution,
                              tabulated_restitution)
-from calibration.synthetic import coverage, synthetic_sets
+from calibration.synthetic import coverage, expected_coverage, synthetic_sets
 from contact_model import CaseError, load_case
 from contact_model.measurement_file import MeasurementError, parse_measurements
 from reference import FIRST_ORDER_INTEGRAL, solve_collisions
@@ -168,26 +169,51 @@ def test_tabulated_model_is_the_solver():
         assert np.abs(tabulated_restitution(criterion)(K) - exact_restitution(criterion)(K)).max() < tol
 
 
+def within_3_standard_errors(c, expected: float) -> bool:
+    """The measured coverage lies within 3 binomial standard errors of `expected`."""
+    return abs(c.fraction - expected) < 3 * np.sqrt(expected * (1 - expected) / (c.sets - c.refused))
+
+
+def test_expected_coverage_is_a_simulation_of_the_linear_model():
+    """The closed form of the interval rule's coverage (an integral over chi2_red) against 400 000
+    draws of that linear model: within 4 standard errors (~0.1 %) at u = 1, 1.5, 3; it is
+    conservative when the stated sigma are right and tends to the level as they understate more."""
+    rng = np.random.default_rng(3)
+    n, dof, z, t = 400_000, 9, stats.norm.ppf(0.975), stats.t.ppf(0.975, 9)
+    for u in (1.0, 1.5, 3.0):
+        error = u * rng.standard_normal(n)
+        chi2_red = u**2 * rng.chisquare(dof, n) / dof
+        simulated = np.mean(np.abs(error) <= np.maximum(z, t * np.sqrt(chi2_red)))
+        expected = expected_coverage(u)
+        assert abs(simulated - expected) < 4 * np.sqrt(expected * (1 - expected) / n), (u, simulated, expected)
+    assert 0.970 < expected_coverage(1.0) < 0.972
+    assert abs(expected_coverage(10.0) - 0.95) < 1e-4
+
+
 def test_coverage_of_the_interval_seeded():
-    """200 seeded Gugan-like sets (k = 0.3, 10 points over a decade, noise 0.005): the 95 % interval
-    covers the truth within 3 binomial standard errors (1.5 %) of 95 %, with sigma given or
-    estimated; a 68.3 % interval covers about 68.3 %, so the test can tell one level from another."""
-    for sigma_given in (False, True):
-        c = coverage(200, seed=12, sigma_given=sigma_given, tabulated=True)
-        assert c.refused == 0
-        assert abs(c.fraction - 0.95) < 3 * c.standard_error, c
-    c = coverage(200, seed=12, level=0.6827, tabulated=True)
-    assert abs(c.fraction - 0.6827) < 3 * c.standard_error, c
+    """1000 seeded Gugan-like sets (k = 0.3, 10 points over a decade, noise 0.005; 3 binomial
+    standard errors ~ 1.6 %): with sigma estimated the 95 % interval covers 95 %, and a 68.3 % one
+    68.3 %, so the test tells one level from another. With sigma stated right it covers what the
+    rule gives, 97.1 % (`expected_coverage`): conservative, since a set that scatters more than
+    stated by chance is widened too (1000 sets cannot tell 97.1 % from 95 % at 3 standard errors;
+    the closed form's own test above can, and `make bench` prints both beside the measured)."""
+    c = coverage(1000, seed=12, tabulated=True)
+    assert c.refused == 0 and within_3_standard_errors(c, 0.95), c
+    c = coverage(1000, seed=12, level=0.6827, tabulated=True)
+    assert within_3_standard_errors(c, 0.6827), c
+    c = coverage(1000, seed=12, sigma_given=True, tabulated=True)
+    assert c.refused == 0 and within_3_standard_errors(c, expected_coverage(1.0)), c
 
 
 @pytest.mark.parametrize("understated", [1.5, 3.0])
 def test_understated_uncertainties_are_widened_and_the_coverage_comes_back(understated):
     """1000 seeded Gugan-like sets whose stated uncertainty is the true noise / 1.5 or / 3: an
     interval from the stated sigma alone covers 79.6 % and 46.9 % of them (measured, as the fit was
-    before it widened); widened by the scatter (chi2_red), 95.2 % and 95.1 % (asserted: 93-97 %)."""
+    before it widened; 80.9 % and 48.6 % in the linear model); widened by the scatter (chi2_red),
+    within 3 standard errors of the rule's expected 95.2 % and 95.0 %."""
     c = coverage(1000, seed=7, sigma_given=True, tabulated=True, stated_noise=0.005 / understated)
     assert c.refused == 0
-    assert 0.93 <= c.fraction <= 0.97, c
+    assert within_3_standard_errors(c, expected_coverage(understated)), c
 
 
 def _synthetic_case(tmp_path, k_true, sigma, xi_0=0.0, seed=5):
