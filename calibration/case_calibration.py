@@ -37,7 +37,7 @@ from scipy import optimize
 
 from contact_model import ContactPair
 from contact_model.case_file import Case
-from contact_model.quantities import POISE
+from contact_model.quantities import POISE, in_unit
 from engines.codes import CODES
 from reference.restitution_closed_forms import paper_series
 
@@ -148,6 +148,11 @@ def calibrate(case: Case, modulus_factors=(0.8, 1.25)) -> tuple[dict, dict[str, 
         "eta_case_Pa_s": pair.eta, "velocity_range": [float(m.velocity.min()), float(m.velocity.max())],
         "fits": {name: _fit_summary(f, pair, modulus_factors) for name, f in fits.items()},
     }
+    # eta also in the unit the case file writes its viscosity in (what the user reads and edits).
+    summary["viscosity_unit"] = case.viscosity_unit
+    for f in summary["fits"].values():
+        f["eta_case_unit"] = in_unit(f["eta_Pa_s"], "Pa*s", case.viscosity_unit)
+        f["eta_interval_case_unit"] = [in_unit(e, "Pa*s", case.viscosity_unit) for e in f["eta_interval_Pa_s"]]
     exact = summary["fits"]["x0"]["eta_Pa_s"]
     summary["series_bias"] = summary["fits"]["series"]["eta_Pa_s"] / exact - 1.0
     summary["constant_loss"] = constant_loss_test(m.velocity, m.restitution, m.uncertainty, fits["x0"])

@@ -127,25 +127,38 @@ def _md(df: pd.DataFrame, fmt: str = ".4g") -> str:
     return "\n".join(lines)
 
 
-def _eta(value_Pa_s: float) -> str:
-    return f"{value_Pa_s:.4g} Pa·s ({value_Pa_s / POISE:.4g} P)"
+def _own_unit(summary: dict, f: dict) -> str | None:
+    """The case file's unit of viscosity where it is neither Pa·s nor P (then eta is given in it too)."""
+    unit, ratio = summary.get("viscosity_unit"), f.get("eta_case_unit", 0) / f["eta_Pa_s"] if f["eta_Pa_s"] else 0
+    if not unit or any(math.isclose(ratio, r, rel_tol=1e-12) for r in (1.0, 1 / POISE)):
+        return None
+    return unit
+
+
+def _eta(value_Pa_s: float, own: tuple[float, str] | None = None) -> str:
+    """'5.845e+04 Pa·s (5.845e+05 P)', with '; 58.45 kPa*s' where the case file writes another unit."""
+    return f"{value_Pa_s:.4g} Pa·s ({value_Pa_s / POISE:.4g} P{f'; {own[0]:.4g} {own[1]}' if own else ''})"
 
 
 def answer_lines(summary: dict) -> list[str]:
-    """The answer first: one line per criterion with eta in Pa·s and P, its 95 % interval, how
-    the interval was made and chi²_red; then a warning where the stated uncertainties
-    understate the scatter (chi²_red > WARN_CHI2_RED), and where the fitted constant loss is
-    unphysical."""
+    """The answer first: one line per criterion with eta in Pa·s and P (and in the unit the case
+    file writes its viscosity in, where that is another), its 95 % interval, how the interval was
+    made and chi²_red; then a warning where the stated uncertainties understate the scatter
+    (chi²_red > WARN_CHI2_RED), and where the fitted constant loss is unphysical."""
     lines = []
     for criterion in CRITERIA:
         f = summary["fits"][criterion]
         low, high = f["eta_interval_Pa_s"]
+        unit = _own_unit(summary, f)
+        own = (f"; {f['eta_interval_case_unit'][0]:.4g}–{f['eta_interval_case_unit'][1]:.4g} {unit}"
+               if unit else "")
         opened = [side for side, is_open in f["interval_open"].items() if is_open]
         basis = ("from the scatter: no uncertainties given" if not f["sigma_given"] else
                  "the stated uncertainties widened to the scatter (chi²_red > 1)" if f.get("widened") else
                  "from the stated uncertainties")
-        lines.append(f"- **{summary['case']}, {criterion}: use eta = {_eta(f['eta_Pa_s'])}**, 95 % interval "
-                     f"{low:.4g}–{high:.4g} Pa·s ({low / POISE:.4g}–{high / POISE:.4g} P; {basis}"
+        lines.append(f"- **{summary['case']}, {criterion}: use eta = "
+                     f"{_eta(f['eta_Pa_s'], (f['eta_case_unit'], unit) if unit else None)}**, 95 % interval "
+                     f"{low:.4g}–{high:.4g} Pa·s ({low / POISE:.4g}–{high / POISE:.4g} P{own}; {basis}"
                      f"{'; open at the ' + ' and '.join(opened) + ' end' if opened else ''}), "
                      f"chi²_red = {f['chi2_red']:.3g}, {f['n']} points.")
         if f["sigma_given"] and f["chi2_red"] > WARN_CHI2_RED:

@@ -45,7 +45,7 @@ from pathlib import Path
 import yaml
 
 from .contact_pair import GEOMETRIES, Body, ContactPair
-from .quantities import CaseError, not_a_quantity, quantity
+from .quantities import CaseError, not_a_quantity, quantity, written_unit
 from .strict_yaml import PLAIN_FLOAT, join_field, read_utf8, scan_plain_yaml
 
 
@@ -64,6 +64,8 @@ class Case:
     description: str = ""
     extra: dict = field(default_factory=dict)
     measurements: object = None  # a measurement_file.Measurements, or None
+    #: The unit `viscosity:` is written in ('P', 'mPa*s'): the calibration answers in it too.
+    viscosity_unit: str = "Pa*s"
 
     def pair(self, geometry: str) -> ContactPair:
         for p in self.pairs:
@@ -253,7 +255,7 @@ def parse_case(data, path) -> Case:
              "density", "geometries", "impact", "measurements"}
     extra = {k: v for k, v in data.items() if k not in known}  # the documentation keys
     return Case(str(name), str(path), pairs, K, velocities, str(data.get("description", "")), extra,
-                measurements)
+                measurements, viscosity_unit=written_unit(data["viscosity"]))
 
 
 def _measurements(data: dict, pairs, path):

@@ -68,6 +68,17 @@ _FACTOR = r"[^\W\d]+(?:(?:\^|\*\*)[+-]?[0-9]+)?"
 UNIT = rf"{_FACTOR}(?:(?: ?[*/] ?| ){_FACTOR})*"
 QUANTITY = re.compile(rf"({NUMBER}) ({UNIT})")
 
+def written_unit(value: str) -> str:
+    """The unit of a quantity string as its file writes it ('6.7e5 P' -> 'P'), for a value that
+    `quantity` has read."""
+    return QUANTITY.fullmatch(value)[2]
+
+
+def in_unit(value: float, unit: str, target: str) -> float:
+    """`value` [unit] expressed in `target` (a unit pint reads, e.g. a file's own 'mPa*s')."""
+    return float(units().Quantity(value, unit).to(target).magnitude)
+
+
 class CaseError(ValueError):
     """An input file (a case file, or a measurement file: `measurement_file.MeasurementError`)
     that cannot be used; the message names the file and the field."""

@@ -216,7 +216,7 @@ def test_understated_uncertainties_are_widened_and_the_coverage_comes_back(under
     assert within_3_standard_errors(c, expected_coverage(understated)), c
 
 
-def _synthetic_case(tmp_path, k_true, sigma, xi_0=0.0, seed=5):
+def _synthetic_case(tmp_path, k_true, sigma, xi_0=0.0, seed=5, viscosity="1e4 P"):
     """A measured case (steel-like bodies on a plane) whose data come from the reference solver at
     k_true, with an extra velocity-independent loss xi_0 and noise 0.005, stating `sigma`."""
     V, eps_true, noisy = synthetic_sets(1, seed=seed, k_true=k_true, noise=0.005)
@@ -224,7 +224,7 @@ def _synthetic_case(tmp_path, k_true, sigma, xi_0=0.0, seed=5):
     rows = "\n".join(f"{v:.6g},{e:.6f},{sigma}" for v, e in zip(10 * V, eps))
     (tmp_path / "m.csv").write_text("velocity [m/s],restitution,restitution_uncertainty\n" + rows + "\n")
     (tmp_path / "mine.yaml").write_text("effective_modulus: 1 GPa\nradius: 1 cm\ndensity: 1000 kg/m^3\n"
-                                        "viscosity: 1e4 P\ngeometries: [sphere-plane]\nmeasurements: m.csv\n")
+                                        f"viscosity: {viscosity}\ngeometries: [sphere-plane]\nmeasurements: m.csv\n")
     return load_case(tmp_path / "mine.yaml")
 
 
@@ -242,6 +242,34 @@ def test_the_answer_comes_first_in_both_units_and_warns_of_understated_uncertain
     assert lines[1].startswith(f"  - Warning: chi²_red = {x0['chi2_red']:.3g} > 2: the stated uncertainties "
                                f"understate the scatter about {math.sqrt(x0['chi2_red']):.2g} times")
     assert fits["x0"].widened and not fits["x0"].low_open and not fits["x0"].high_open
+
+
+@pytest.mark.parametrize("written, per_Pa_s", [("1 kPa*s", 1e-3), ("1e6 cP", 1e3), ("1e3 kg/m/s", None),
+                                               ("1e3 Pa*s", None), ("1e4 P", None)])
+def test_the_answer_is_also_in_the_unit_the_case_file_writes_its_viscosity_in(tmp_path, written, per_Pa_s):
+    """The same data under a case file that writes its (starting) viscosity, the same 1000 Pa s, in
+    kPa*s, cP, SI base units, Pa*s or P: the same eta; a third unit only where it is neither Pa·s
+    nor P, whose values are eta [Pa s] times the unit's factor (written here, not pint's)."""
+    from calibration.outputs import answer_lines
+
+    summary, _ = calibrate(_synthetic_case(tmp_path, 0.3, sigma=0.005, viscosity=written))
+    (tmp_path / "P").mkdir()
+    in_poise, _ = calibrate(_synthetic_case(tmp_path / "P", 0.3, sigma=0.005))
+    unit = written.split(" ", 1)[1]
+    assert summary["viscosity_unit"] == unit
+    for criterion in ("x0", "F0"):
+        f = summary["fits"][criterion]
+        line = next(x for x in answer_lines(summary) if x.startswith(f"- **mine, {criterion}: "))
+        eta, (low, high) = f["eta_Pa_s"], f["eta_interval_Pa_s"]
+        assert eta == pytest.approx(in_poise["fits"][criterion]["eta_Pa_s"], rel=1e-12)
+        if per_Pa_s is None:
+            assert f"use eta = {eta:.4g} Pa·s ({eta / 0.1:.4g} P)**" in line, line
+            assert f"{low:.4g}–{high:.4g} Pa·s ({low / 0.1:.4g}–{high / 0.1:.4g} P; from the stated" in line, line
+            continue
+        assert f["eta_case_unit"] == pytest.approx(eta * per_Pa_s, rel=1e-12)
+        assert f"use eta = {eta:.4g} Pa·s ({eta / 0.1:.4g} P; {eta * per_Pa_s:.4g} {unit})**" in line, line
+        assert (f"{low:.4g}–{high:.4g} Pa·s ({low / 0.1:.4g}–{high / 0.1:.4g} P; "
+                f"{low * per_Pa_s:.4g}–{high * per_Pa_s:.4g} {unit}; from the stated") in line, line
 
 
 def test_an_unphysical_constant_loss_is_flagged(tmp_path):
