@@ -150,9 +150,10 @@ def calibrate(case: Case, modulus_factors=(0.8, 1.25)) -> tuple[dict, dict[str, 
     }
     # eta also in the unit the case file writes its viscosity in (what the user reads and edits).
     summary["viscosity_unit"] = case.viscosity_unit
+    per_Pa_s = in_unit(1.0, "Pa*s", case.viscosity_unit)  # viscosity units are linear: one factor
     for f in summary["fits"].values():
-        f["eta_case_unit"] = in_unit(f["eta_Pa_s"], "Pa*s", case.viscosity_unit)
-        f["eta_interval_case_unit"] = [in_unit(e, "Pa*s", case.viscosity_unit) for e in f["eta_interval_Pa_s"]]
+        f["eta_case_unit"] = f["eta_Pa_s"] * per_Pa_s
+        f["eta_interval_case_unit"] = [e * per_Pa_s for e in f["eta_interval_Pa_s"]]
     exact = summary["fits"]["x0"]["eta_Pa_s"]
     summary["series_bias"] = summary["fits"]["series"]["eta_Pa_s"] / exact - 1.0
     summary["constant_loss"] = constant_loss_test(m.velocity, m.restitution, m.uncertainty, fits["x0"])

@@ -135,11 +135,6 @@ def _own_unit(summary: dict, f: dict) -> str | None:
     return unit
 
 
-def _eta(value_Pa_s: float, own: tuple[float, str] | None = None) -> str:
-    """'5.845e+04 Pa·s (5.845e+05 P)', with '; 58.45 kPa*s' where the case file writes another unit."""
-    return f"{value_Pa_s:.4g} Pa·s ({value_Pa_s / POISE:.4g} P{f'; {own[0]:.4g} {own[1]}' if own else ''})"
-
-
 def answer_lines(summary: dict) -> list[str]:
     """The answer first: one line per criterion with eta in Pa·s and P (and in the unit the case
     file writes its viscosity in, where that is another), its 95 % interval, how the interval was
@@ -150,15 +145,17 @@ def answer_lines(summary: dict) -> list[str]:
         f = summary["fits"][criterion]
         low, high = f["eta_interval_Pa_s"]
         unit = _own_unit(summary, f)
-        own = (f"; {f['eta_interval_case_unit'][0]:.4g}–{f['eta_interval_case_unit'][1]:.4g} {unit}"
-               if unit else "")
+        own_eta = f"; {f['eta_case_unit']:.4g} {unit}" if unit else ""
+        own_interval = (f"; {f['eta_interval_case_unit'][0]:.4g}–{f['eta_interval_case_unit'][1]:.4g} {unit}"
+                        if unit else "")
         opened = [side for side, is_open in f["interval_open"].items() if is_open]
         basis = ("from the scatter: no uncertainties given" if not f["sigma_given"] else
                  "the stated uncertainties widened to the scatter (chi²_red > 1)" if f.get("widened") else
                  "from the stated uncertainties")
-        lines.append(f"- **{summary['case']}, {criterion}: use eta = "
-                     f"{_eta(f['eta_Pa_s'], (f['eta_case_unit'], unit) if unit else None)}**, 95 % interval "
-                     f"{low:.4g}–{high:.4g} Pa·s ({low / POISE:.4g}–{high / POISE:.4g} P{own}; {basis}"
+        eta = f["eta_Pa_s"]
+        lines.append(f"- **{summary['case']}, {criterion}: use eta = {eta:.4g} Pa·s ({eta / POISE:.4g} P{own_eta})**, "
+                     f"95 % interval {low:.4g}–{high:.4g} Pa·s ({low / POISE:.4g}–{high / POISE:.4g} P{own_interval}; "
+                     f"{basis}"
                      f"{'; open at the ' + ' and '.join(opened) + ' end' if opened else ''}), "
                      f"chi²_red = {f['chi2_red']:.3g}, {f['n']} points.")
         if f["sigma_given"] and f["chi2_red"] > WARN_CHI2_RED:
