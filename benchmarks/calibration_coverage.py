@@ -41,7 +41,7 @@ def main(n_sets: int = 1000) -> None:
             c = coverage(n_sets, seed=2024, sigma_given=sigma_given, criterion=criterion,
                          stated_noise=NOISE / understated)
             expected = expected_coverage(understated) if sigma_given else 0.95
-            se = (expected * (1 - expected) / max(c.sets - c.refused, 1)) ** 0.5
+            se = c.standard_error_at(expected)
             print(f"coverage {criterion}, {kind}: {100 * c.fraction:.1f} % of {c.sets - c.refused} sets "
                   f"(refused {c.refused}); the rule gives {100 * expected:.1f} %, binomial s.e. {100 * se:.1f} % "
                   f"({(c.fraction - expected) / se:+.1f} s.e.); median k {c.median_k:.5f} (true {c.k_true}); "

@@ -62,7 +62,11 @@ class Coverage:
     @property
     def standard_error(self) -> float:
         """Binomial standard error of `fraction` if the true coverage is `level`."""
-        return float(np.sqrt(self.level * (1 - self.level) / max(self.sets - self.refused, 1)))
+        return self.standard_error_at(self.level)
+
+    def standard_error_at(self, coverage: float) -> float:
+        """Binomial standard error of `fraction` if the true coverage is `coverage`."""
+        return float(np.sqrt(coverage * (1 - coverage) / max(self.sets - self.refused, 1)))
 
 
 def expected_coverage(understatement: float = 1.0, level: float = 0.95, dof: int = POINTS - 1) -> float:

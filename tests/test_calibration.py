@@ -171,7 +171,7 @@ def test_tabulated_model_is_the_solver():
 
 def within_3_standard_errors(c, expected: float) -> bool:
     """The measured coverage lies within 3 binomial standard errors of `expected`."""
-    return abs(c.fraction - expected) < 3 * np.sqrt(expected * (1 - expected) / (c.sets - c.refused))
+    return abs(c.fraction - expected) < 3 * c.standard_error_at(expected)
 
 
 def test_expected_coverage_is_a_simulation_of_the_linear_model():
