@@ -93,6 +93,15 @@ def reference_curve(K_max: float, reference: pd.DataFrame | None = None):
     return solve_collisions(np.linspace(0.0, K_max, 200))
 
 
+def _plot_build_ratios(ax, runs: pd.DataFrame, q: str, present, styles) -> None:
+    """The ratio `q` (`_ratio`) of each present build's runs against K, one marker per geometry."""
+    for build in present:
+        for geometry in GEOMETRY_DOT:
+            sel = runs[(runs.build == build) & (runs.geometry == geometry)]
+            if len(sel):
+                _plot_points(ax, sel.K, _ratio(sel, q), styles[build], geometry)
+
+
 def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=None) -> None:
     """eps, T/T_e, A/A_e, Q1/Q1e, Q2/Q2e against K: every build a marker of its own
     (`build_styles`, in the order of `builds`), hollow, with a dot at the centre on sphere-plane;
@@ -108,11 +117,7 @@ def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=N
         name = RATIO[q][0]
         ax.plot(K, ref[name], "k-", lw=1.5, label="reference ODE")
         ax.plot(K, paper_series_value(name, K), "k--", lw=1, label="paper's series")
-        for build in present:
-            for geometry in GEOMETRY_DOT:
-                sel = runs[(runs.build == build) & (runs.geometry == geometry)]
-                if len(sel):
-                    _plot_points(ax, sel.K, _ratio(sel, q), styles[build], geometry)
+        _plot_build_ratios(ax, runs, q, present, styles)
         ax.set_xlabel("K")
         ax.set_title(name)
         ax.grid(alpha=0.3)
@@ -165,11 +170,7 @@ def plot_default_laws(table: pd.DataFrame, path: Path, curve, builds=None) -> No
         for criterion, ls in (("x0", "-"), ("F0", "-.")):
             ax.plot(K, hertz_ratios(curve, criterion)[name], "k", ls=ls, lw=1,
                     label=f"viscoelastic reference, {criterion}")
-        for build in present:
-            for geometry in GEOMETRY_DOT:
-                sel = runs[(runs.build == build) & (runs.geometry == geometry)]
-                if len(sel):
-                    _plot_points(ax, sel.K, _ratio(sel, q), styles[build], geometry)
+        _plot_build_ratios(ax, runs, q, present, styles)
         ax.set_xlabel("K of the viscoelastic model at that velocity")
         ax.set_title(name)
         ax.grid(alpha=0.3)
