@@ -132,11 +132,15 @@ def largest_dt_table(errors: pd.DataFrame, thresholds, rayleigh: dict) -> pd.Dat
 SPREAD_FLOOR = 1e-9
 
 
+SPREAD_COLUMNS = ["law", "geometry", "K", "criterion", "h", "quantity", "builds", "largest_error", "spread"]
+
+
 def build_spread(errors: pd.DataFrame) -> pd.DataFrame:
     """How far the builds' errors differ at the same law, geometry, K, criterion and step:
     (max - min over the builds) / max |error|, per quantity, for the steps at which two or more
     builds ran and the largest |error| exceeds SPREAD_FLOOR. Returns columns law, geometry, K,
-    criterion, h, quantity, builds, spread, largest_error."""
+    criterion, h, quantity, builds, largest_error, spread: no rows (but these columns) for a
+    study of one build."""
     errors = with_build(errors)
     rows = []
     for keys, g in errors.groupby(["law", "geometry", "K", "criterion", "h"], sort=False):
@@ -150,4 +154,4 @@ def build_spread(errors: pd.DataFrame) -> pd.DataFrame:
             rows.append({**dict(zip(["law", "geometry", "K", "criterion", "h"], keys)), "quantity": q,
                          "builds": g.build.nunique(), "largest_error": size,
                          "spread": float((e.max() - e.min()) / size)})
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows, columns=SPREAD_COLUMNS)

@@ -87,6 +87,21 @@ def planned_groups(plan_runs: pd.DataFrame) -> pd.DataFrame:
     return gated.rename(columns={"name": "run", "represents": "criterion"})[columns]
 
 
+def judgement(error: float, resolution: float, tolerance: float) -> str:
+    """Why a check that is not 'pass' (`judge`) fails, saying what is compared.
+
+    A resolved failure: '4.000e-06 > 1e-06 (resolution 1.6e-07; ' (the caller adds where and the
+    closing parenthesis): |error| exceeds the tolerance by more than its resolution. Unresolved:
+    'not resolved at this tolerance: |error| + resolution = 5.229e-07 + 5.1e-07 = 1.033e-06 > 1e-06
+    >= |error| - resolution = 1.3e-08 (' -- the error alone is within the tolerance, but not with
+    its resolution added, so the ladders cannot tell."""
+    e, r = abs(error), (0.0 if math.isnan(resolution) else resolution)
+    if e - r > tolerance:
+        return f"{e:.3e} > {tolerance:g} (resolution {r:.1e}; "
+    return (f"not resolved at this tolerance: |error| + resolution = {e:.3e} + {r:.1e} = {e + r:.3e} > {tolerance:g}"
+            f" >= |error| - resolution = {e - r:.1e} (")
+
+
 def judge(error: float, resolution: float, tolerance: float) -> str:
     """'pass' when |error| + resolution <= tolerance, 'fail' when |error| - resolution >
     tolerance (resolved), 'unresolved' between, 'nan' when the error is NaN."""
@@ -171,14 +186,12 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
                 outcomes = [judge(e, r, tolerance[q]) if ok else "flawed" for e, r, ok in zip(errors, res, sound)]
                 # the sound ladder that fails by most, first
                 for j in np.argsort(-(np.abs(np.nan_to_num(errors, nan=np.inf)) + res)):
-                    if outcomes[j] == "fail":
-                        judged = f"resolution {res[j]:.1e}; " if known else ""
-                        reasons.append(f"{abs(errors[j]):.3e} > {tolerance[q]:g} ({judged}"
-                                       f"case {sel.case.iloc[j]}, K = {sel.K.iloc[j]:.4g})")
+                    if outcomes[j] == "fail" and not known:  # a summary from before ladders
+                        reasons.append(f"{abs(errors[j]):.3e} > {tolerance[q]:g} (case {sel.case.iloc[j]}, "
+                                       f"K = {sel.K.iloc[j]:.4g})")
                         break
-                    if outcomes[j] == "unresolved":
-                        reasons.append(f"not resolved at this tolerance: {abs(errors[j]):.3e} with resolution "
-                                       f"{res[j]:.1e} straddles {tolerance[q]:g} (case {sel.case.iloc[j]}, "
+                    if outcomes[j] in ("fail", "unresolved"):
+                        reasons.append(f"{judgement(errors[j], res[j], tolerance[q])}case {sel.case.iloc[j]}, "
                                        f"K = {sel.K.iloc[j]:.4g})")
                         break
                 if "nan" in outcomes:
@@ -230,8 +243,7 @@ def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFram
             if failed:
                 reasons.append(f"the run failed: {user.problem}")
             elif judge(error, resolution, tolerance[q]) != "pass":
-                reasons.append(f"{error:.3e} > {tolerance[q]:g} with resolution {resolution:.1e} (written as the user "
-                               f"would: {user.run})")
+                reasons.append(f"{judgement(error, resolution, tolerance[q])}written as the user would: {user.run})")
             control_error = abs(float(control[f"err_{q}"]))
             control_resolution = float(control.get(f"resolution_{q}", 0.0))
             if judge(control_error, control_resolution, tolerance[q]) != "pass":

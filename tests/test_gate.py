@@ -82,8 +82,23 @@ def test_an_error_within_the_tolerance_but_not_its_resolution_is_not_a_pass():
     checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere")), no_failures(), TOL)
     eps = checks[checks.quantity == "eps"]
     assert not eps["pass"].any()
-    assert eps.reason.str.startswith("not resolved at this tolerance: 8.000e-07 with resolution 5.0e-07 "
-                                     "straddles 1e-06").all()
+    # The wording says what is compared, and each comparison it states is true.
+    assert eps.reason.str.startswith("not resolved at this tolerance: |error| + resolution = 8.000e-07 + 5.0e-07 = "
+                                     "1.300e-06 > 1e-06 >= |error| - resolution = 3.0e-07 (case ").all()
+
+
+def test_the_verdict_line_of_a_regression_check_says_what_it_compares():
+    """5.229e-07 with resolution 5.1e-07 against 1e-06 is not resolved: its line must not read
+    '5.229e-07 > 1e-06' (false), but '|error| + resolution = 1.033e-06 > 1e-06'."""
+    from postprocess.gate import regression_checks
+
+    reported = regression_checks(pd.DataFrame(regression_rows("lammps-z", 5.229e-7, res=5.1e-7)), TOL)
+    t = reported[reported.quantity == "T"].iloc[0]
+    assert not t["pass"]
+    assert t.reason == ("not resolved at this tolerance: |error| + resolution = 5.229e-07 + 5.1e-07 = 1.033e-06 > "
+                        "1e-06 >= |error| - resolution = 1.3e-08 (written as the user would: "
+                        f"{t.at_run})")
+    assert "5.229e-07 > 1e-06" not in t.reason
 
 
 def test_a_misaligned_ladder_fails_its_checks_with_the_reason_and_is_not_judged_by_its_number():
@@ -190,11 +205,11 @@ def test_withdraw_verdict_removes_every_verdict_file(tmp_path):
     assert not list(tmp_path.glob(".*.part"))  # written atomically: no temporary left behind
 
 
-def regression_rows(build, user_err_T, control_err_T=2e-10, problem=""):
+def regression_rows(build, user_err_T, control_err_T=2e-10, problem="", res=1e-8):
     """A regression case's table (postprocess.regressions): the user's ladder and the control's,
-    their limits with a resolution of 1e-8."""
+    their limits with a resolution of `res`."""
     base = {"build": build, "case": "wall-modulus", "geometry": "sphere-plane", "K": 0.0,
-            **{f"resolution_{q}": 1e-8 for q in ("T", "A", "eps")}}
+            **{f"resolution_{q}": res for q in ("T", "A", "eps")}}
     return [{**base, "role": "user", "run": f"{build}-user", "problem": problem,
              "err_T": user_err_T, "err_A": user_err_T, "err_eps": 1e-9},
             {**base, "role": "control", "run": f"{build}-control", "problem": "",
@@ -219,8 +234,8 @@ def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the
     checks = pd.concat([model, reported], ignore_index=True)
     v = verdict_of(checks, "sha", TOL)
     assert v["verdict"] == "PASS" and v["checked"] == 6  # only the model's checks gate
-    assert any(r.startswith("lammps-2021 regression:wall-modulus sphere-plane x0 T: 9.960e-02 > 1e-06 with resolution "
-                            "1.0e-08") for r in v["reported"])
+    assert any(r.startswith("lammps-2021 regression:wall-modulus sphere-plane x0 T: 9.960e-02 > 1e-06 (resolution "
+                            "1.0e-08; written as the user would: ") for r in v["reported"])
     root = junit_xml(checks).getroot()
     assert root.get("failures") == "0" and int(root.get("skipped")) == int((~reported["pass"]).sum())
     skipped = [c for c in root.iter("testcase") if c.find("skipped") is not None]
