@@ -9,6 +9,8 @@ paper's series are compared, not gated: where they depart from the reference, th
 
 from __future__ import annotations
 
+import html
+
 import math
 import re
 from dataclasses import dataclass, field
@@ -42,6 +44,26 @@ def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:
         cells = [format(v, floatfmt) if isinstance(v, float) else str(v).replace("|", "\\|") for v in row]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def _unquoted(tail: str) -> str:
+    """A problem's quoted log lines ('    | line', engines.engine_process) as the log has them."""
+    return "\n".join(re.sub(r"^ *\| ?", "", line) for line in tail.strip("\n").splitlines())
+
+
+def _failed_runs_table(failed_runs) -> list[str]:
+    """The runs an engine did not complete: one table row each, with the problem's first line,
+    then each run's quoted engine-log lines (the problem's further lines) in a collapsed block,
+    so that a log's lines never break the table. Markdown lines."""
+    runs = with_build(pd.DataFrame(list(failed_runs)))
+    heads, tails = zip(*(str(p).rstrip("\n").partition("\n")[::2] for p in runs.problem))
+    lines = [_md_table(runs.assign(problem=list(heads))[["case", "build", "law", "run", "problem", "log"]]), ""]
+    for run, log, tail in zip(runs.run, runs.log, tails):
+        if tail.strip():
+            lines += [f"<details><summary>{html.escape(str(run))}: the last lines of its engine log "
+                      f"(<code>{html.escape(str(log))}</code>)</summary>", "",
+                      f"<pre>{html.escape(_unquoted(tail))}</pre>", "", "</details>", ""]
+    return lines
 
 
 def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.DataFrame | None = None) -> list[str]:
@@ -294,10 +316,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                                                              "reason"]]), ""]
         if len(failed_runs):
             lines += ["Runs the engine did not complete (a gated law's failure fails its checks above; the "
-                      "out-of-the-box laws are not gated):", "",
-                      _md_table(with_build(pd.DataFrame(list(failed_runs)))[["case", "build", "law", "run", "problem",
-                                                                             "log"]]),
-                      ""]
+                      "out-of-the-box laws are not gated):", "", *_failed_runs_table(failed_runs)]
     if convergence is not None:
         lines += _convergence_section(convergence, convergence_orders, convergence_spread)
     if regressions is not None:

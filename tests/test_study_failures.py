@@ -160,6 +160,18 @@ def test_crashed_engine_fails_every_check_naming_the_run(project, tmp_path):
     assert "**Verdict: FAIL** — 0 of 6 gated checks" in head
     assert "1 of 1 ladders have a failed run; first: lammps-viscoelastic-sphere-sphere-K0.1-" in head
     assert "139" in head and "1 of 1 ladders have a failed run" in out.stdout + out.stderr
+    # The runs the engine did not complete: one table row per run, its log's last lines in a
+    # collapsed block below the table (never as rows of their own), in report.md and report.html.
+    report = (project / "results" / "report.md").read_text()
+    section = report.split("Runs the engine did not complete")[1].split("\n## ")[0]
+    table = [line for line in section.splitlines() if line.startswith("|")]
+    runs = table[2:]  # the crashed rung, the ladder's three others and the default run, not run after it
+    assert len(runs) == 5 and all(line.count(" | ") == 5 for line in runs), table
+    assert "\\|" not in section
+    assert section.count("<details><summary>") == 1 and "<pre>(the log is empty)</pre>" in section
+    page = (project / "results" / "report.html").read_text()
+    html_section = page.split("Runs the engine did not complete")[1].split("<h2")[0]
+    assert html_section.count("<tr>") == 6 and html_section.count("<details>") == 1  # the header and five runs
 
 
 def test_hung_engine_is_stopped_and_fails_every_check(project, tmp_path):
