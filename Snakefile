@@ -113,11 +113,16 @@ VERDICT_RULES = ("gate", "case_gate", "compare_gate")
 onerror:
     # A job that failed (SLURM killed it at its time or memory limit, it was cancelled, its
     # script crashed) leaves no verdict of its own: write the FAIL naming it (postprocess.failed_jobs).
-    from postprocess.failed_jobs import record_failed_jobs
+    # An interruption (Ctrl-C) is no FAIL: it names the jobs and the command that continues.
+    from postprocess.failed_jobs import continue_command, record_failed_jobs
 
+    _continue = continue_command(sys.argv)
     _lost = record_failed_jobs(log, "results", {r.name: [str(o) for o in r.output] for r in workflow.rules},
-                               verdict_rules=VERDICT_RULES)
-    if _lost:
+                               verdict_rules=VERDICT_RULES, command=_continue)
+    if _lost and all(f["reason"].startswith("interrupted") for f in _lost):
+        print(f"INTERRUPTED: {', '.join(f['job'] for f in _lost)} did not finish; their unfinished outputs were "
+              f"removed, and the verdicts they touch are marked stale. Continue with:\n  {_continue}", file=sys.stderr)
+    elif _lost:
         print(f"FAIL: {len(_lost)} job(s) did not finish (results/report.md, results/junit.xml):\n  "
               + "\n  ".join(f"{f['job']}: {f['reason']}" for f in _lost), file=sys.stderr)
 

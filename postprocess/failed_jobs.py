@@ -32,8 +32,7 @@ from pathlib import Path
 from engines.engine_process import log_tail
 from records.files import write_atomically
 
-#: The JUnit test suite the study's gate writes (postprocess.gate.junit_xml).
-SUITE = "hertz-dem-gate"
+from .verdict_files import SUITE, backdate, is_stale, mark_stale
 #: How long `sacct` may take for one job before its account is left out [s].
 SACCT_TIMEOUT_S = 30
 #: Lines of a local job's log quoted with its failure.
@@ -301,11 +300,13 @@ def _merge_report(results: Path, section: str) -> None:
 
 
 def record_failed_jobs(log_path, results_dir="results", output_patterns: dict | None = None,
-                       verdict_rules=(), sacct: str | None = None) -> list[dict]:
+                       verdict_rules=(), sacct: str | None = None, command: str | None = None) -> list[dict]:
     """Read the failed jobs of the Snakemake log `log_path` (a path, or a list of them) and write
     the FAIL they force into `results_dir` (see the module's docstring). `output_patterns` maps each rule to its output
-    patterns (to name a job by its wildcards); the jobs of `verdict_rules` are left out. Returns
-    the failures written (none: nothing written)."""
+    patterns (to name a job by its wildcards); the jobs of `verdict_rules` are left out. An
+    interrupted workflow (Ctrl-C) is no failure: `record_interruption`, with `command` (the one
+    that continues it). Returns the failures written, or the interrupted jobs (each with
+    reason 'interrupted ...'); none: nothing written."""
     paths = [log_path] if isinstance(log_path, (str, Path)) else list(log_path or [])
     text = ""
     for path in paths:  # Snakemake 9 hands `onerror` a list: one file per log handler
@@ -317,11 +318,115 @@ def record_failed_jobs(log_path, results_dir="results", output_patterns: dict | 
     if not jobs:
         return []
     patterns = output_patterns or {}
-    failures = [job_failure(j, wildcards_of(patterns.get(j.rule, ()), j.outputs), sacct) for j in jobs]
     results = Path(results_dir)
+    if was_interrupted(text, jobs):
+        return record_interruption(jobs, patterns, results, command)
+    failures = [job_failure(j, wildcards_of(patterns.get(j.rule, ()), j.outputs), sacct) for j in jobs]
     results.mkdir(parents=True, exist_ok=True)
     (results / "gate.txt").unlink(missing_ok=True)
+    if is_stale(results):  # a verdict about earlier results: this run's FAIL replaces it, not joins it
+        for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
+            (results / name).unlink(missing_ok=True)
     _merge_verdict(results / "verdict.json", failures)
     _merge_junit(results / "junit.xml", failures)
     _merge_report(results, failure_markdown(failures))
+    for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
+        backdate(results / name)  # written outside their rules: the next run rewrites them
     return failures
+
+
+#: What Snakemake logs when the user stops it (Ctrl-C, SIGINT), and how a job's script or shell
+#: reports the signal.
+_USER_STOP = "Terminating processes on user request"
+_SIGINT = re.compile(r"KeyboardInterrupt|interrupted \(SIGINT\)|Signals\.SIGINT|signal 2\b")
+
+
+def was_interrupted(log_text: str, jobs: list[FailedJob]) -> bool:
+    """Whether the workflow was stopped by its user (Ctrl-C) rather than by a failure: Snakemake
+    says so in its log, or every failed job died of SIGINT."""
+    if _USER_STOP in log_text:
+        return True
+    return bool(jobs) and all(_SIGINT.search(j.message or _error_line(j.logs)) for j in jobs)
+
+
+def continue_command(argv) -> str:
+    """The command that continues an interrupted workflow: the user's, with --rerun-incomplete
+    ('snakemake -j2 steel --rerun-incomplete')."""
+    import shlex
+
+    args = [a for a in list(argv)[1:]]
+    if not any(a in ("--rerun-incomplete", "--ri") for a in args):
+        args.append("--rerun-incomplete")
+    return shlex.join(["snakemake", *args])
+
+
+def record_interruption(jobs: list[FailedJob], patterns: dict, results: Path, command: str | None) -> list[dict]:
+    """An interrupted workflow: not an engine failure, and no FAIL. Each interrupted job's partial
+    outputs are removed (Snakemake removed them before the job started, so what is there is the
+    job's unfinished work: dumps half written, an engine's scratch folders). The folder of each
+    interrupted case job (results/<case>) gets the verdict INTERRUPTED, naming the jobs and the
+    command that continues; so does the study's folder for a job of no case; every other verdict
+    is only marked stale, with the interruption as its note. Returns the interrupted jobs."""
+    command = command or "snakemake -j2 all --rerun-incomplete"
+    interrupted = []
+    for job in jobs:
+        wildcards = wildcards_of(patterns.get(job.rule, ()), job.outputs)
+        removed = [p for p in job.outputs if _remove(Path(p))]
+        interrupted.append({"job": describe(job, wildcards), "rule": job.rule, "wildcards": wildcards,
+                            "removed": removed, "logs": job.logs,
+                            "reason": "interrupted (SIGINT) before it finished"})
+    names = ", ".join(j["job"] for j in interrupted)
+    folders = {results / j["wildcards"]["case"] if "case" in j["wildcards"] else results for j in interrupted}
+    for folder in sorted(folders):
+        mine = [j for j in interrupted if (results / j["wildcards"]["case"] if "case" in j["wildcards"]
+                                           else results) == folder]
+        _write_interrupted(folder, mine, command)
+    if results not in folders and results.exists():
+        mark_stale(results, f"the run was interrupted in {names}", "snakemake -j2 all")
+    return interrupted
+
+
+def _remove(path: Path) -> bool:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+        return True
+    try:
+        path.unlink()
+        return True
+    except FileNotFoundError:
+        return False
+
+
+def _write_interrupted(folder: Path, jobs: list[dict], command: str) -> None:
+    """verdict.json, junit.xml, report.md and report.html of an interrupted run (no gate.txt)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "gate.txt").unlink(missing_ok=True)
+    names = ", ".join(j["job"] for j in jobs)
+    sentence = f"INTERRUPTED: {names} did not finish (stopped by the user). Continue with: {command}"
+    verdict = {"verdict": "INTERRUPTED", "pass": False, "checked": 0, "failed": 0, "failures": [],
+               "interrupted_jobs": jobs, "continue": command, "summary_sha256": None}
+    write_atomically(folder / "verdict.json", json.dumps(verdict, indent=1) + "\n")
+    root = ET.Element("testsuites", name=SUITE, tests=str(len(jobs)), failures="0", errors=str(len(jobs)),
+                      skipped="0")
+    suite = ET.SubElement(root, "testsuite", name=SUITE, tests=str(len(jobs)), failures="0",
+                          errors=str(len(jobs)), skipped="0")
+    for j in jobs:
+        name = ", ".join(f"{k}={v}" for k, v in j["wildcards"].items()) or "job"
+        case = ET.SubElement(suite, "testcase", classname=f"workflow.{j['rule']}", name=name, time="0")
+        ET.SubElement(case, "error", message=f"{j['job']} was interrupted; continue with: {command}",
+                      type="interrupted")
+    ET.indent(root)
+    write_atomically(folder / "junit.xml", ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    lines = ["# Hertz DEM comparison report", "", "## The run was interrupted: no verdict", "",
+             f"The workflow was stopped by its user (Ctrl-C) before {len(jobs)} job(s) finished; their unfinished "
+             "outputs were removed. No check was judged, and nothing here is an engine failure. Continue with:", "",
+             f"    {command}", ""]
+    lines += [f"- **{j['job']}**: interrupted; logs: {', '.join(f'`{p}`' for p in j['logs']) or 'none'}" for j in jobs]
+    write_atomically(folder / "report.md", "\n".join(lines) + "\n")
+    items = "".join(f"<li><strong>{html.escape(j['job'])}</strong>: interrupted</li>" for j in jobs)
+    write_atomically(folder / "report.html",
+                     "<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
+                     f"</head><body><h1>Hertz DEM comparison report</h1><h2>The run was interrupted: no verdict</h2>"
+                     f"<p>{html.escape(sentence)}</p><ul>{items}</ul></body></html>")
+    for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
+        backdate(folder / name)  # written outside their rules: the next run rewrites them

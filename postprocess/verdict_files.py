@@ -1,6 +1,23 @@
-"""The files that carry a verdict (gate.txt, verdict.json, junit.xml, the report): withdrawn
-before results change. (They are written with `records.files.write_atomically` and tied to the
-summary they describe by its `records.files.file_sha256`.)
+"""The files that carry a verdict (gate.txt, verdict.json, junit.xml, the report): marked stale
+before results change, and the verdict of an interrupted run. (They are written with
+`records.files.write_atomically` and tied to the summary they describe by its
+`records.files.file_sha256`.)
+
+A rule that changes results marks the verdict of its folders *stale* (`mark_stale`), it does not
+remove it: the user keeps reading the study's report while one case reruns, and nothing in it
+still claims PASS for results it does not describe:
+
+- gate.txt, the PASS stamp, goes;
+- verdict.json says ``"verdict": "STALE"``, ``"pass": false``, with what the verdict was, since
+  when, which job changed results and the command that gives a verdict again;
+- junit.xml gains one failing test case, ``workflow.stale``, saying the same;
+- report.md and report.html open with a banner saying the same; the rest is left as it was.
+
+The rules that write a verdict (the checks, the reports, the gates) write it anew. A verdict file
+written outside its rule (marked stale here, or the FAIL of a lost job, or an interrupted run's,
+`postprocess.failed_jobs`) is dated 1 January 1970 (`backdate`): older than any input, so that
+the next run of any target that needs it reruns the rule that writes it, and everything upstream
+that is missing, instead of taking it as up to date.
 
 Kept apart from `postprocess.gate` (which needs pandas) because every workflow rule imports it
 first, through workflow/scripts/common.py: standard library only.
@@ -8,20 +25,28 @@ first, through workflow/scripts/common.py: standard library only.
 
 from __future__ import annotations
 
+import html
+import json
+import os
+import re
+import xml.etree.ElementTree as ET
+from datetime import datetime, timezone
 from pathlib import Path
 
-#: The files that carry a verdict; any rule that changes results withdraws them first.
+from records.files import write_atomically
+
+#: The files that carry a verdict; any rule that changes results marks them stale first.
 VERDICT_FILES = ("gate.txt", "verdict.json", "junit.xml", "report.md", "report.html")
+#: The JUnit test suite the study's gate writes (postprocess.gate.junit_xml).
+SUITE = "hertz-dem-gate"
+#: The stale banner's markers in report.md and report.html: a new note replaces the old one.
+_MD_BANNER = re.compile(r"<!-- stale -->.*?<!-- /stale -->\n\n", re.S)
+_HTML_BANNER = re.compile(r"<section class='stale'>.*?</section>", re.S)
 
 
 def withdraw_verdict(results_dir="results") -> list[str]:
-    """Remove every file that carries a verdict from `results_dir` (the names removed).
-
-    Called first by every rule that changes results: a rerun that fails or is interrupted
-    then leaves no verdict beside results it does not describe. Jobs that start together (every
-    case's summary) withdraw the same files at once: a file another job removed first is gone,
-    which is what was asked, not an error.
-    """
+    """Remove every file that carries a verdict from `results_dir` (the names removed). A file
+    another job removed first is gone, which is what was asked, not an error."""
     removed = []
     for name in VERDICT_FILES:
         p = Path(results_dir) / name
@@ -31,3 +56,110 @@ def withdraw_verdict(results_dir="results") -> list[str]:
             continue
         removed.append(str(p))
     return removed
+
+
+def backdate(path) -> None:
+    """Date `path` 1 January 1970 (mtime 0), so that Snakemake reruns the rule whose output it is
+    (see the module's docstring); a file that is not there is left so."""
+    try:
+        os.utime(path, (0, 0))
+    except FileNotFoundError:
+        pass
+
+
+def is_stale(results_dir="results") -> bool:
+    """Whether the verdict in `results_dir` was marked stale (or is an interrupted run's)."""
+    try:
+        verdict = json.loads((Path(results_dir) / "verdict.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(verdict, dict) and verdict.get("verdict") in ("STALE", "INTERRUPTED")
+
+
+def mark_stale(results_dir, by: str, rerun: str = "snakemake -j2 all") -> list[str]:
+    """Mark the verdict files of `results_dir` stale (see the module's docstring): results are
+    about to change, by the job `by` ('run_engine (case steel, build lammps)'); `rerun` gives a
+    verdict again. Idempotent: a folder already stale keeps when it went stale and what it was,
+    and takes the newest note. Returns the files changed."""
+    folder = Path(results_dir)
+    changed = []
+    if (folder / "gate.txt").exists():
+        (folder / "gate.txt").unlink(missing_ok=True)
+        changed.append(str(folder / "gate.txt"))
+    now = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
+    note = {"since": now, "by": by, "was": None, "rerun": rerun}
+    path = folder / "verdict.json"
+    if path.exists():
+        try:
+            verdict = json.loads(path.read_text())
+            verdict = verdict if isinstance(verdict, dict) else {}
+        except (OSError, ValueError):
+            verdict = {}
+        old = verdict.get("stale") if verdict.get("verdict") == "STALE" else None
+        if old:
+            note.update(since=old.get("since", now), was=old.get("was"))
+        else:
+            note["was"] = verdict.get("verdict")
+        verdict.update(verdict="STALE", stale=note, **{"pass": False})
+        write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+        changed.append(str(path))
+    sentence = stale_sentence(note)
+    if (folder / "junit.xml").exists():
+        _junit_stale(folder / "junit.xml", sentence)
+        changed.append(str(folder / "junit.xml"))
+    for name, mark in (("report.md", _md_stale), ("report.html", _html_stale)):
+        p = folder / name
+        try:
+            text = p.read_text()
+        except OSError:
+            continue
+        write_atomically(p, mark(text, sentence))
+        changed.append(str(p))
+    for path in changed:
+        backdate(path)
+    return changed
+
+
+def stale_sentence(note: dict) -> str:
+    """'STALE: results changed since this verdict (PASS) was written: run_engine (case steel,
+    build lammps) started at 2026-11-26 05:08:56 UTC. For a verdict again: snakemake -j2 all.'"""
+    was = f" ({note['was']})" if note.get("was") else ""
+    return (f"STALE: results changed since this verdict{was} was written: {note['by']}, since {note['since']}. "
+            f"For a verdict again: {note['rerun']}.")
+
+
+def _md_stale(text: str, sentence: str) -> str:
+    banner = f"<!-- stale -->\n> **{sentence.split(':', 1)[0]}**:{sentence.split(':', 1)[1]}\n<!-- /stale -->\n\n"
+    text = _MD_BANNER.sub("", text, count=1)
+    m = re.match(r"# [^\n]*\n\n", text)  # after the title
+    return text[:m.end()] + banner + text[m.end():] if m else banner + text
+
+
+def _html_stale(text: str, sentence: str) -> str:
+    block = (f"<section class='stale'><p style='border:2px solid #b60;padding:.5em'><strong>STALE</strong>:"
+             f"{html.escape(sentence.split(':', 1)[1])}</p></section>")
+    text = _HTML_BANNER.sub("", text, count=1)
+    return text.replace("<body>", f"<body>{block}", 1) if "<body>" in text else block + text
+
+
+def _junit_stale(path: Path, sentence: str) -> None:
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError):
+        root = ET.Element("testsuites", name=SUITE, tests="0", failures="0", errors="0", skipped="0")
+    suite = root.find("testsuite")
+    if suite is None:
+        suite = ET.SubElement(root, "testsuite", name=SUITE, tests="0", failures="0", errors="0", skipped="0")
+    old = suite.find("testcase[@classname='workflow'][@name='stale']")
+    if old is None:
+        case = ET.SubElement(suite, "testcase", classname="workflow", name="stale", time="0")
+        for element in (root, suite):
+            element.set("tests", str(int(element.get("tests", "0")) + 1))
+            element.set("failures", str(int(element.get("failures", "0")) + 1))
+    else:
+        case = old
+        for child in list(case):
+            case.remove(child)
+    ET.SubElement(case, "failure", message=sentence, type="stale")
+    ET.indent(root)
+    write_atomically(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))

@@ -5,14 +5,16 @@ These drive the verdict's branches on small tables; tests/test_study_failures.py
 paths end to end through the workflow with a real engine.
 """
 
+import json
 import math
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import pandas as pd
 import pytest
 
-from postprocess.gate import gate_checks, junit_xml, verdict_of, write_junit, write_verdict
-from postprocess.verdict_files import VERDICT_FILES, withdraw_verdict
+from postprocess.gate import CHECK_COLUMNS, gate_checks, junit_xml, verdict_of, write_junit, write_verdict
+from postprocess.verdict_files import VERDICT_FILES, mark_stale
 from postprocess.report import ReportInputs, write_report
 
 TOL = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
@@ -194,15 +196,45 @@ def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
     assert "FAIL" in (tmp_path / "report.html").read_text()
 
 
-def test_withdraw_verdict_removes_every_verdict_file(tmp_path):
-    for name in VERDICT_FILES:
-        (tmp_path / name).write_text("PASS")
-    (tmp_path / "summary.csv").write_text("kept")
-    removed = withdraw_verdict(tmp_path)
-    assert sorted(removed) == sorted(str(tmp_path / n) for n in VERDICT_FILES)
-    assert [p.name for p in tmp_path.iterdir()] == ["summary.csv"]
-    write_verdict({"verdict": "PASS"}, tmp_path / "verdict.json")
+def test_mark_stale_keeps_the_reports_readable_and_nothing_says_pass(tmp_path):
+    """A rule about to change results marks the verdict stale: gate.txt goes, verdict.json says
+    STALE (what it was, since when, by which job, how to get a verdict), junit.xml gains one failing
+    case, both reports open with the banner; every file is dated 1970 so that Snakemake rewrites it."""
+    write_verdict({"verdict": "PASS", "pass": True, "checked": 6, "failed": 0, "failures": []},
+                  tmp_path / "verdict.json")
     assert not list(tmp_path.glob(".*.part"))  # written atomically: no temporary left behind
+    (tmp_path / "gate.txt").write_text("PASS: 6 checks\n")
+    (tmp_path / "report.md").write_text("# Report\n\n**Verdict: PASS**\n")
+    (tmp_path / "report.html").write_text("<html><body><p>PASS</p></body></html>")
+    junit_xml(pd.DataFrame(columns=CHECK_COLUMNS)).write(tmp_path / "junit.xml")
+    (tmp_path / "summary.csv").write_text("kept")
+    failures_before = int(ET.parse(tmp_path / "junit.xml").getroot().get("failures"))
+    changed = mark_stale(tmp_path, "run_engine (case steel, build lammps)", "snakemake -j2 steel")
+    assert sorted(Path(p).name for p in changed) == sorted(VERDICT_FILES)
+    assert not (tmp_path / "gate.txt").exists() and (tmp_path / "summary.csv").read_text() == "kept"
+    verdict = json.loads((tmp_path / "verdict.json").read_text())
+    assert verdict["verdict"] == "STALE" and verdict["pass"] is False and verdict["checked"] == 6
+    assert verdict["stale"]["was"] == "PASS" and verdict["stale"]["by"] == "run_engine (case steel, build lammps)"
+    md = (tmp_path / "report.md").read_text()
+    assert md.startswith("# Report\n\n<!-- stale -->\n> **STALE**: results changed since this verdict (PASS) was "
+                         "written: run_engine (case steel, build lammps), since ")
+    assert "For a verdict again: snakemake -j2 steel." in md and md.endswith("**Verdict: PASS**\n")
+    assert "<strong>STALE</strong>" in (tmp_path / "report.html").read_text()
+    root = ET.parse(tmp_path / "junit.xml").getroot()
+    assert int(root.get("failures")) == failures_before + 1 and root.find(".//testcase[@name='stale']/failure") is not None
+    assert all((tmp_path / n).stat().st_mtime == 0 for n in VERDICT_FILES if n != "gate.txt")
+    # Marked again (another job): one banner, one stale case, and it still knows what it was and since when.
+    since = verdict["stale"]["since"]
+    mark_stale(tmp_path, "case_summary (case steel)")
+    again = json.loads((tmp_path / "verdict.json").read_text())
+    assert again["stale"]["was"] == "PASS" and again["stale"]["since"] == since
+    assert again["stale"]["by"] == "case_summary (case steel)"
+    assert (tmp_path / "report.md").read_text().count("<!-- stale -->") == 1
+    assert len(ET.parse(tmp_path / "junit.xml").getroot().findall(".//testcase[@name='stale']")) == 1
+
+
+def test_mark_stale_of_a_folder_with_no_verdict_writes_nothing(tmp_path):
+    assert mark_stale(tmp_path, "plan_case (case steel)") == [] and list(tmp_path.iterdir()) == []
 
 
 def regression_rows(build, user_err_T, control_err_T=2e-10, problem="", res=1e-8):
@@ -242,23 +274,3 @@ def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the
     assert all(c.get("classname").split(".")[1].startswith("regression:") for c in skipped)
     assert all(c.find("failure") is None for c in root.iter("testcase"))
 
-
-def test_withdrawing_at_once_from_two_jobs_is_no_error(tmp_path, monkeypatch):
-    """Every case's summary withdraws the study's verdict when it starts: two jobs that start
-    together race for the same files. One that finds a file already gone goes on (it is gone, as
-    asked) and lists only what it removed itself (this raised FileNotFoundError before)."""
-    import pathlib
-
-    for name in VERDICT_FILES:
-        (tmp_path / name).write_text("PASS\n")
-    real_unlink = pathlib.Path.unlink
-
-    def other_job_first(self, *args, **kwargs):
-        if self.name == "gate.txt":  # the other job removes gate.txt between our look and our unlink
-            real_unlink(self)
-        return real_unlink(self, *args, **kwargs)
-
-    monkeypatch.setattr(pathlib.Path, "unlink", other_job_first)
-    removed = withdraw_verdict(tmp_path)
-    assert sorted(removed) == sorted(str(tmp_path / n) for n in VERDICT_FILES if n != "gate.txt")
-    assert not any((tmp_path / n).exists() for n in VERDICT_FILES)

@@ -8,11 +8,15 @@ import json
 import sys
 
 from common import log_to
+from postprocess.verdict_files import stale_sentence
 from records.files import file_sha256, write_atomically
 
 log = log_to(snakemake.log[0])
 verdict = json.load(open(snakemake.input.verdict))
 summary_sha = file_sha256(snakemake.input.summary)
+if verdict.get("verdict") == "STALE":  # a rule changed results after the checks were made
+    log.error(stale_sentence(verdict["stale"]))
+    sys.exit(stale_sentence(verdict["stale"]))
 if verdict.get("summary_sha256") != summary_sha:
     sys.exit(f"{snakemake.input.verdict} was computed from another {snakemake.input.summary} "
              "(sha256 differs): rerun the study, e.g. snakemake -j2 all --forcerun report")
