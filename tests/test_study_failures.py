@@ -241,7 +241,10 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
                 os.kill(pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
-    assert verdict_files(project) == []
+    # Nothing says PASS: the gate's stamp is gone, the verdict says STALE, the reports open with it.
+    assert verdict_files(project) == ["junit.xml", "report.html", "report.md", "verdict.json"]
+    assert json.loads((project / "results" / "verdict.json").read_text())["verdict"] == "STALE"
+    assert "**STALE**" in (project / "results" / "report.md").read_text()
 
     # What a user meets next: the killed run's outputs are incomplete, and its lock is still there.
     incomplete = study(project)
@@ -255,6 +258,70 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
     again = study(project, extra=["--rerun-incomplete"])
     assert again.returncode == 0, again.stderr[-3000:]
     assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
+
+
+def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tmp_path):
+    """Ctrl-C (SIGINT to the workflow's process group) during `snakemake -j2 steel`: the case's
+    verdict says INTERRUPTED with the job and the command that continues, the study's report stays
+    readable and is only marked stale, no report holds a traceback, the unfinished engine outputs
+    are gone; the continuing command passes the case, and `all` the study."""
+    ok = study(project)
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    results = project / "results"
+    matrix = (results / "report.md").read_text().split("## Engines")[1]
+    proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "steel", "--forcerun", "run_engine",
+                             "--config", *SMALL], cwd=project, env=faulty_lammps(tmp_path, "hang"),
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    pid_file = results / "steel" / "lammps" / "runs" / "hang.pid"
+    try:
+        deadline = time.monotonic() + 300
+        while not pid_file.exists() and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.2)
+        assert pid_file.exists(), "the engine job never started"
+        hung = int(pid_file.read_text())
+        os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C in the terminal does
+        said, _ = proc.communicate(timeout=120)
+    finally:
+        for pid in [int(pid_file.read_text())] if pid_file.exists() else []:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+    assert proc.returncode != 0
+    command = ("snakemake -j2 steel --forcerun run_engine --config " + " ".join(f"'{c}'" if " " in c or "[" in c
+                                                                                 else c for c in SMALL)
+               + " --rerun-incomplete")
+    assert f"INTERRUPTED: run_engine (case steel, build lammps) did not finish" in said
+    assert f"Continue with:\n  {command}" in said and "FAIL" not in said
+    case_verdict = json.loads((results / "steel" / "verdict.json").read_text())
+    assert case_verdict["verdict"] == "INTERRUPTED" and case_verdict["continue"] == command
+    assert [j["job"] for j in case_verdict["interrupted_jobs"]] == ["run_engine (case steel, build lammps)"]
+    assert not (results / "steel" / "lammps" / "runs").exists()  # the unfinished dumps and the engine's scratch
+    study_verdict = json.loads((results / "verdict.json").read_text())
+    assert study_verdict["verdict"] == "STALE" and study_verdict["stale"]["was"] == "PASS"
+    assert "interrupted in run_engine (case steel, build lammps)" in study_verdict["stale"]["by"]
+    assert not (results / "gate.txt").exists()
+    report = (results / "report.md").read_text()
+    assert "**STALE**" in report and report.split("## Engines")[1] == matrix  # the study's report is kept
+    for path in [*results.rglob("report.md"), *results.rglob("report.html"), *results.rglob("*.json"),
+                 *results.rglob("junit.xml")]:
+        assert "Traceback" not in path.read_text() and "KeyboardInterrupt" not in path.read_text(), path
+    try:
+        os.kill(hung, 0)
+        alive = True
+    except ProcessLookupError:
+        alive = False
+    assert not alive, "the interrupted engine process outlived the workflow"
+
+    again = subprocess.run(command.replace("snakemake", f"{sys.executable} -m snakemake", 1), shell=True,
+                           cwd=project, capture_output=True, text=True, timeout=600)
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert (results / "steel" / "gate.txt").read_text().startswith("PASS: 6 ")
+    assert json.loads((results / "verdict.json").read_text())["verdict"] == "STALE"  # a case target leaves it so
+    whole = study(project)
+    assert whole.returncode == 0, whole.stderr[-3000:]
+    assert (results / "gate.txt").read_text().startswith("PASS: 6 ")
+    assert "STALE" not in (results / "report.md").read_text()
 
 
 def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_as_fixes(project, tmp_path):
