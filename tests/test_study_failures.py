@@ -107,6 +107,28 @@ def report_head(project) -> str:
     return (project / "results" / "report.md").read_text().split("## Engines")[0]
 
 
+@pytest.mark.parametrize("law", ["viscoelastic", "elastic"])
+def test_a_study_of_one_build_one_case_one_geometry_and_one_law_passes_with_every_extra(project, law):
+    """The minima a user gating their own build meets: one build (no pair of builds to spread or
+    compare), one case of one geometry, one law; every extra section on (convergence, paper,
+    LAMMPS regressions, calibration). It crashed in the report on a one-byte build_spread.csv."""
+    for path in (ROOT / "cases").rglob("*"):  # the paper's and the calibration's cases, for those extras
+        target = project / "cases" / path.relative_to(ROOT / "cases")
+        if path.is_file() and not target.exists():
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy(path, target)
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "all", "--config", "cases=cases/steel.yaml",
+                          "builds=[{id: lammps-mine, code: lammps, executable: lmp}]", f"laws=[{law}]"],
+                         cwd=project, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    checks = 2 if law == "viscoelastic" else 1  # criteria x0 and F0, or x0 alone; x one geometry
+    assert (project / "results" / "gate.txt").read_text().startswith(f"PASS: {checks * 3} ")
+    head = report_head(project)
+    assert f"**Verdict: PASS** — {checks * 3} of {checks * 3} gated checks" in head
+    assert pd.read_csv(project / "results" / "convergence" / "build_spread.csv").empty  # its header, no rows
+    assert junit(project) == (checks * 3 + 3 * 2, set())  # and the reported-only regression checks, skipped
+
+
 def test_too_tight_tolerance_fails_and_no_earlier_pass_survives(project):
     ok = study(project)
     assert ok.returncode == 0, ok.stderr[-3000:]
