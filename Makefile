@@ -29,8 +29,9 @@ SLURM_CONF_LOCAL := $(CURDIR)/.slurm/etc/slurm.conf
 # through the local cluster; .ci/run compares their summary.csv).
 CI_STUDY := cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'
 
+# The study's log ends with its verdict and the report's path (postprocess.verdict_files).
 study: engines lammps-2025 kratos-10.4 venv
-	$(VENV)/bin/snakemake -j$(JOBS) all
+	@$(VENV)/bin/snakemake -j$(JOBS) all; status=$$?; echo; $(PY) -m postprocess.verdict_files results; exit $$status
 
 # Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
 test: engines lammps-2025 kratos-10.4 venv
@@ -136,4 +137,5 @@ clean:
 
 # CI's reduced study: one material, three K, every build, both geometries.
 ci-study: engines lammps-2025 kratos-10.4 venv
-	$(VENV)/bin/snakemake -j$(JOBS) all --config $(CI_STUDY)
+	@$(VENV)/bin/snakemake -j$(JOBS) all --config $(CI_STUDY); status=$$?; echo; \
+	  $(PY) -m postprocess.verdict_files results; exit $$status

@@ -48,6 +48,12 @@ from .contact_pair import GEOMETRIES, Body, ContactPair
 from .quantities import CaseError, not_a_quantity, quantity, written_unit
 from .strict_yaml import PLAIN_FLOAT, join_field, read_utf8, scan_plain_yaml
 
+#: What `impact.velocity` means, said wherever a velocity is refused: Chung & Ooi's test 1, written
+#: as 10 m/s per sphere instead of 20 m/s between them, gives T off by 15 %.
+VELOCITY_MEANING = ("`velocity` is the relative normal velocity of the two bodies at impact: two spheres each "
+                    "moving at 10 m/s towards the other collide at 20 m/s; a sphere on a plane at rest, at its own "
+                    "speed")
+
 
 
 SCHEMA_PATH = Path(__file__).with_name("case_file.schema.yaml")

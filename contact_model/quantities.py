@@ -40,23 +40,48 @@ DIMENSIONS = {
 #: One poise in SI [Pa s]: the paper's unit of viscosity.
 POISE = 0.1
 
-#: The units a user most likely means, per dimension: what a "did you mean" picks from.
+#: The units a user most likely means, per dimension: what a "did you mean" picks from, in the
+#: order it lists equally close ones.
 COMMON_UNITS = {
     "[pressure]": ("Pa", "kPa", "MPa", "GPa", "bar", "psi"),
     "[pressure] * [time]": ("Pa*s", "mPa*s", "P", "cP"),
-    "[length]": ("m", "cm", "mm", "um", "in"),
+    "[length]": ("m", "cm", "mm", "um", "nm", "in"),
     "[mass] / [length] ** 3": ("kg/m^3", "g/cm^3"),
     "[length] / [time]": ("m/s", "cm/s", "mm/s", "km/h"),
 }
+#: At most this many units are offered, the closest first.
+SUGGESTIONS = 3
+
+
+def edit_distance(a: str, b: str) -> int:
+    """The optimal-string-alignment distance: insertions, deletions, substitutions and swaps of
+    two neighbouring letters ('mn' -> 'nm') each count one."""
+    d = [[i + j if i * j == 0 else 0 for j in range(len(b) + 1)] for i in range(len(a) + 1)]
+    for i in range(1, len(a) + 1):
+        for j in range(1, len(b) + 1):
+            d[i][j] = min(d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1]))
+            if i > 1 and j > 1 and a[i - 1] == b[j - 2] and a[i - 2] == b[j - 1]:
+                d[i][j] = min(d[i][j], d[i - 2][j - 2] + 1)
+    return d[len(a)][len(b)]
 
 
 def did_you_mean(unit_text: str, dimension: str) -> str:
-    """' (did you mean 'MPa'?)' for a unit that is a common unit of `dimension` but for its
-    letters' case ('Mpa'), or close to one ('kg/m3'); '' when none is close."""
+    """' (did you mean 'MPa'?)' for a unit that is a common unit of `dimension` (the field's: a
+    suggestion is always of the right size kind) but for its letters' case ('Mpa'); else the common
+    units one edit from it (a letter added, dropped, changed, or two swapped), the closest in
+    spelling first -- same first letter, then same length -- up to SUGGESTIONS of them: '5 mn' as a
+    length gives ' (did you mean 'mm', 'm' or 'nm'?)'; else difflib's closest; '' when none is close."""
     options = COMMON_UNITS.get(dimension, ())
     same = [u for u in options if u.lower() == unit_text.lower()]
-    close = same or difflib.get_close_matches(unit_text, options, n=1, cutoff=0.6)
-    return f" (did you mean '{close[0]}'?)" if close else ""
+    if same:
+        return f" (did you mean '{same[0]}'?)"
+    near = sorted((u for u in options if edit_distance(unit_text, u) <= 1),
+                  key=lambda u: (u[:1] != unit_text[:1], abs(len(u) - len(unit_text)), options.index(u)))
+    close = near[:SUGGESTIONS] or difflib.get_close_matches(unit_text, options, n=1, cutoff=0.6)
+    if not close:
+        return ""
+    quoted = [f"'{u}'" for u in close]
+    return f" (did you mean {' or '.join([', '.join(quoted[:-1]), quoted[-1]] if len(quoted) > 1 else quoted)}?)"
 
 
 #: One plain decimal number (ASCII digits only: Python's float() would also take other

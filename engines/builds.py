@@ -12,6 +12,7 @@ cannot say which version it is.
 
 from __future__ import annotations
 
+import difflib
 import os
 import re
 import shutil
@@ -42,7 +43,9 @@ class Build:
 
     def __post_init__(self):
         if self.code not in CODES:
-            raise BuildError(f"build {self.id!r}: unknown code {self.code!r}; known: {', '.join(CODES)}")
+            close = difflib.get_close_matches(self.code.lower(), list(CODES), n=1, cutoff=0.6)
+            guess = f" (did you mean {close[0]!r}?)" if close else ""
+            raise BuildError(f"build {self.id!r}: unknown code {self.code!r}{guess}; known: {', '.join(CODES)}")
         if not ID_PATTERN.fullmatch(self.id):
             raise BuildError(f"build id {self.id!r}: use lower-case letters, digits and . _ -, starting with a letter")
 

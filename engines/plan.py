@@ -39,7 +39,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-from contact_model.case_file import Case, CaseError
+from contact_model.case_file import VELOCITY_MEANING, Case, CaseError
 from contact_model.contact_pair import Body, ContactPair
 from records.files import file_sha256
 from reference import solve_collision, solve_collisions
@@ -93,6 +93,12 @@ def ladder_roundoff(rungs: list[RunSpec]) -> float:
                               powers_of(rungs[0].pair.eta))
 
 
+def _velocity_meaning(field_name: str) -> str:
+    """'; `velocity` is the relative normal velocity ...' for an error about a velocity the case
+    file gives, '' otherwise."""
+    return f" ({VELOCITY_MEANING})" if field_name.startswith("impact.velocity") else ""
+
+
 def _velocities(case: Case, pair, K_grid) -> list[tuple[float, str, str, float | None]]:
     """(velocity, field, what it is, the target K or None) of every velocity of `pair`."""
     if case.velocities:
@@ -120,7 +126,8 @@ def _checked(case: Case, pair, v: float, where: str, what: str, K_target, time_s
     """The scales at `v` and a probe run, refusing what is not a finite positive double.
     `solved` ({K: reference row}) spares the probe its own solve of the ODE (for its steps)."""
     def refuse(problem):
-        raise PlanError(case.path, where, f"{pair.geometry}, {what}: {problem}; the engines cannot run it")
+        raise PlanError(case.path, where, f"{pair.geometry}, {what}: {problem}; the engines cannot run it"
+                                          f"{_velocity_meaning(where)}")
 
     if not (math.isfinite(v) and v > 0):
         refuse(f"the impact velocity would be {v:g} m/s (V_D = {pair.viscous_velocity:g} m/s)")
@@ -194,6 +201,8 @@ class Plan:
     skipped: list[dict] = field(default_factory=list)
     #: (build, law, geometry) cells a build's code cannot express, with the reason (engines.codes).
     not_available: list[dict] = field(default_factory=list)
+    #: What a reader of the plan must know about what runs (e.g. that an elastic case runs one law).
+    notes: list[str] = field(default_factory=list)
 
 
 def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3, 0.5),
@@ -233,12 +242,13 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                 if where == "impact":  # the study's grid: not this case's request
                     plan.skipped.append({**skip, "reason": reason})
                     continue
-                raise PlanError(case.path, where, f"{pair.geometry}, {what}: {reason}")
+                raise PlanError(case.path, where, f"{pair.geometry}, {what}: {reason}{_velocity_meaning(where)}")
             allowed[pair.geometry].append(v)
     if not any(allowed.values()):
         field_name = "impact.velocity" if case.velocities else "impact.K" if case.K else "impact"
         reasons = "; ".join(f"{s['geometry']} K = {s['K']:.3g}: {s['reason']}" for s in plan.skipped)
-        raise PlanError(case.path, field_name, f"nothing to run: every velocity is left out ({reasons})")
+        raise PlanError(case.path, field_name, f"nothing to run: every velocity is left out ({reasons})"
+                                               f"{_velocity_meaning(field_name)}")
     # The reference solution of every K of the case, solved in one batch: the runs carry their row
     # (RunSpec.reference), and plan.json hands it on to the engine jobs and the summary.
     # Every K run was solved for the probes above (`solved`); the elastic K = 0 joins them here.
@@ -266,6 +276,10 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                                else [time_step_factor])
                     plan.runs += [RunSpec(case.name, engine, law, pair, v, f, matched_restitution=e, reference=row,
                                           build=build) for f in factors]
+    left_out = [law for law in laws if law != "elastic"]
+    if left_out and any(pair.eta == 0 for pair in case.pairs):
+        plan.notes.append(f"{case.name}: the viscosity is 0, an elastic contact: only the law 'elastic' runs; "
+                          f"{', '.join(left_out)} left out (give a positive `viscosity:` to run them)")
     if not plan.runs:
         raise PlanError(case.path, "viscosity" if all(p.eta == 0 for p in case.pairs) else "laws",
                         f"nothing to run with the laws {', '.join(laws)} in the builds {', '.join(builds)}")
@@ -298,7 +312,7 @@ def plan_listing(case: Case, plan: Plan) -> dict:
                       "time_step_factor": r.time_step_factor, "time_step": r.time_step, "steps": r.steps(),
                       "matched_restitution": r.matched_restitution, "reference": r.reference}
                      for r in plan.runs],
-            "not_run": plan.skipped, "not_available": plan.not_available}
+            "not_run": plan.skipped, "not_available": plan.not_available, "notes": plan.notes}
 
 
 def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunSpec]:

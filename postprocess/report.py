@@ -159,6 +159,8 @@ class ReportInputs:
     series_cmp: pd.DataFrame | None = None
     timing: dict | None = None
     not_run: list = field(default_factory=list)
+    #: The plans' notes (`engines.plan.Plan.notes`): what runs and what does not, in words.
+    plan_notes: list = field(default_factory=list)
     failed_runs: list = field(default_factory=list)
     convergence: pd.DataFrame | None = None
     convergence_orders: pd.DataFrame | None = None
@@ -308,6 +310,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
         pub = series_cmp.dropna(subset=["paper"])
         lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",
                   _md_table(pub[["quantity", "order", "equation", "paper", "computed", "difference"]], ".5g"), ""]
+    if i.plan_notes:
+        lines += ["## What the plans say", "", *(f"- {note}" for note in i.plan_notes), ""]
     if len(not_run) or len(failed_runs):
         lines += ["## Runs not made or not completed", ""]
         if len(not_run):
@@ -332,11 +336,11 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     text = "\n".join(lines)
     # report.html links the other reports' HTML pages (report.md their Markdown)
     markdown_text, html_text = text, re.sub(r"\]\(([\w.-]+)/report\.md\)", r"](\1/report.html)", text)
-    for placeholder, (md, html) in html_blocks.items():
+    for placeholder, (md, block) in html_blocks.items():
         markdown_text = markdown_text.replace(placeholder, "\n".join(md).rstrip())
         # Raw HTML passes through Python-Markdown as a block; the Markdown around it (legend, notes) is kept.
         md_rest = [line for line in md if not line.startswith("|")]
-        html_text = html_text.replace(placeholder, f"\n{html}\n\n" + "\n".join(md_rest).strip())
+        html_text = html_text.replace(placeholder, f"\n{block}\n\n" + "\n".join(md_rest).strip())
     write_atomically(out_dir / "report.md", markdown_text)
     _write_html(html_text, out_dir / "report.html")
     figures_drawn()

@@ -163,3 +163,33 @@ def _junit_stale(path: Path, sentence: str) -> None:
     ET.SubElement(case, "failure", message=sentence, type="stale")
     ET.indent(root)
     write_atomically(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+
+
+def verdict_line(results_dir="results") -> str:
+    """The one line that ends a study's log: its verdict and where its report is.
+
+    'PASS: 114 of 114 gated checks pass; report: results/report.html', 'FAIL: 2 of 114 ...',
+    'STALE: ...', 'INTERRUPTED: ...', or that there is no verdict (the workflow stopped before one
+    was written)."""
+    folder = Path(results_dir)
+    report = folder / "report.html"
+    where = f"; report: {report}" if report.exists() else ""
+    try:
+        verdict = json.loads((folder / "verdict.json").read_text())
+    except (OSError, ValueError):
+        return f"no verdict: {folder / 'verdict.json'} was not written (see the log above){where}"
+    kind = verdict.get("verdict", "?")
+    if kind == "STALE":
+        return stale_sentence(verdict["stale"]) + where
+    if kind == "INTERRUPTED":
+        return f"INTERRUPTED: continue with {verdict.get('continue')}{where}"
+    checked, failed = verdict.get("checked", 0), verdict.get("failed", 0)
+    lost = len(verdict.get("failed_jobs", []))
+    text = f"{kind}: {checked - failed} of {checked} gated checks pass"
+    return text + (f", {lost} job(s) did not finish" if lost else "") + where
+
+
+if __name__ == "__main__":  # make study / make ci-study end their log with this line
+    import sys
+
+    print(verdict_line(sys.argv[1] if len(sys.argv) > 1 else "results"))

@@ -64,6 +64,8 @@ def test_an_unknown_code_and_a_bad_id_are_refused():
     with pytest.raises(BuildError,
                        match="build 'chute-2': unknown code 'chute'; known: liggghts, yade, lammps, esys, kratos"):
         load_builds([{"id": "chute-2", "code": "chute", "executable": "chute"}], ROOT)
+    with pytest.raises(BuildError, match=r"build 'x': unknown code 'lamps' \(did you mean 'lammps'\?\); known: "):
+        load_builds([{"id": "x", "code": "lamps", "executable": "lmp"}], ROOT)
     with pytest.raises(Exception, match="does not match"):
         validate(config_with([{"id": "LAMMPS 2021", "code": "lammps", "executable": "lmp"}]),
                  str(ROOT / "config" / "config.schema.yaml"))

@@ -69,6 +69,10 @@ def test_rigid_plane(tmp_path):
     ("radius: 0.635 cm", "radius: 0.635 GPa", "radius", "expected a [length]"),
     ("radius: 0.635 cm", "radius: 0.635", "radius", "has no unit"),
     ("radius: 0.635 cm", "radius: 0.635 furlongz", "radius", "cannot read"),
+    # a misspelt unit is offered the units of the field's own dimension one edit away, closest first
+    ("radius: 0.635 cm", "radius: 5 mn", "radius", "(did you mean 'mm', 'm' or 'nm'?)"),
+    ("radius: 0.635 cm", "radius: 5 cn", "radius", "(did you mean 'cm' or 'in'?)"),
+    ("effective_modulus: 109 GPa", "effective_modulus: 109 Gpa", "effective_modulus", "(did you mean 'GPa'?)"),
     ("effective_modulus: 109 GPa", "effective_modulus: -109 GPa", "effective_modulus", "positive"),
     ("density: 7.8 g/cm^3", "density: 0 g/cm^3", "density", "positive"),
     ("viscosity: 6.7e5 P", "viscosity: -1 P", "viscosity", "non-negative"),
@@ -90,6 +94,9 @@ def test_bad_material_case(tmp_path, old, new, field, words):
     ("young: 200 GPa", "young: -200 GPa", "bodies[0].young", "positive"),
     ("young: 70 GPa, ", "", "bodies[1].young", "missing"),
     ("K: [0.1, 0.3]", "K: [0.1, 12]", "impact.K[1]", "(0, 10]"),
+    ("K: [0.1, 0.3]", "K: [1 m/s]", "impact.K[0]",
+     "must be a number in (0, 10], got '1 m/s'; K is the dimensionless dissipation parameter: for an impact "
+     "velocity, use `velocity:`"),
     ("K: [0.1, 0.3]", "K: [0.1, 0.3]\n  velocity: [1 m/s]", "impact", "exactly one"),
 ])
 def test_bad_bodies_case(tmp_path, old, new, field, words):

@@ -221,7 +221,8 @@ def test_mark_stale_keeps_the_reports_readable_and_nothing_says_pass(tmp_path):
     assert "For a verdict again: snakemake -j2 steel." in md and md.endswith("**Verdict: PASS**\n")
     assert "<strong>STALE</strong>" in (tmp_path / "report.html").read_text()
     root = ET.parse(tmp_path / "junit.xml").getroot()
-    assert int(root.get("failures")) == failures_before + 1 and root.find(".//testcase[@name='stale']/failure") is not None
+    assert int(root.get("failures")) == failures_before + 1
+    assert root.find(".//testcase[@name='stale']/failure") is not None
     assert all((tmp_path / n).stat().st_mtime == 0 for n in VERDICT_FILES if n != "gate.txt")
     # Marked again (another job): one banner, one stale case, and it still knows what it was and since when.
     since = verdict["stale"]["since"]
@@ -274,3 +275,15 @@ def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the
     assert all(c.get("classname").split(".")[1].startswith("regression:") for c in skipped)
     assert all(c.find("failure") is None for c in root.iter("testcase"))
 
+
+
+def test_the_line_that_ends_the_study_log_gives_the_verdict_and_the_report(tmp_path):
+    from postprocess.verdict_files import verdict_line
+
+    assert verdict_line(tmp_path).startswith(f"no verdict: {tmp_path / 'verdict.json'} was not written")
+    (tmp_path / "report.html").write_text("<html></html>")
+    write_verdict({"verdict": "FAIL", "pass": False, "checked": 114, "failed": 2, "failures": []},
+                  tmp_path / "verdict.json")
+    assert verdict_line(tmp_path) == f"FAIL: 112 of 114 gated checks pass; report: {tmp_path / 'report.html'}"
+    mark_stale(tmp_path, "run_engine (case steel, build lammps)")
+    assert verdict_line(tmp_path).startswith("STALE: results changed since this verdict (FAIL) was written")

@@ -35,6 +35,9 @@ def test_unrunnable_cases_are_refused_when_planned(tmp_path, impact, field, word
         run()
     assert isinstance(err.value, CaseError) and err.value.field == field
     assert str(path) in str(err.value) and words in str(err.value)
+    # A refused velocity says what `velocity` means: the bodies' relative normal velocity.
+    assert ("`velocity` is the relative normal velocity of the two bodies" in str(err.value)) == \
+        field.startswith("impact.velocity")
 
 
 def test_extreme_moduli_are_refused_not_crashed(tmp_path):
@@ -49,6 +52,20 @@ def test_elastic_case_needs_velocities(tmp_path):
     with pytest.raises(PlanError) as err:
         run()
     assert err.value.field == "impact" and "elastic" in str(err.value)
+
+
+def test_an_elastic_case_says_it_runs_one_law_in_its_plan(tmp_path):
+    from engines.plan import plan_listing
+
+    path = tmp_path / "case.yaml"
+    path.write_text(STEEL.replace("6.7e5 P", "0 P") + "impact: {velocity: [1 m/s]}\n")
+    case = load_case(path)
+    planned = plan_runs(case, ["lammps"], laws=["viscoelastic", "elastic", "default"])
+    assert {r.law for r in planned.runs} == {"elastic"}
+    assert planned.notes == ["s: the viscosity is 0, an elastic contact: only the law 'elastic' runs; viscoelastic, "
+                             "default left out (give a positive `viscosity:` to run them)"]
+    assert plan_listing(case, planned)["notes"] == planned.notes
+    assert plan_runs(load_case(path), ["lammps"], laws=["elastic"]).notes == []  # nothing left out: no note
 
 
 def test_roundoff_floor_matches_the_measured_miss_and_the_ladder_weighs_its_rungs():

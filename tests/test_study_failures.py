@@ -313,7 +313,7 @@ def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tm
     command = ("snakemake -j2 steel --forcerun run_engine --config " + " ".join(f"'{c}'" if " " in c or "[" in c
                                                                                  else c for c in SMALL)
                + " --rerun-incomplete")
-    assert f"INTERRUPTED: run_engine (case steel, build lammps) did not finish" in said
+    assert "INTERRUPTED: run_engine (case steel, build lammps) did not finish" in said
     assert f"Continue with:\n  {command}" in said and "FAIL" not in said
     case_verdict = json.loads((results / "steel" / "verdict.json").read_text())
     assert case_verdict["verdict"] == "INTERRUPTED" and case_verdict["continue"] == command

@@ -44,6 +44,14 @@ def test_dry_run_plans_every_case_and_engine():
     assert "gate" in out.stdout and "report" in out.stdout
 
 
+def test_an_unknown_engine_code_stops_the_workflow_with_its_message_alone(project):
+    out = snakemake("-n", "steel", "--config", "builds=[{id: mine, code: lamps, executable: lmp}]", cwd=project)
+    assert out.returncode != 0
+    assert ("config 'builds': build 'mine': unknown code 'lamps' (did you mean 'lammps'?); known: liggghts, yade, "
+            "lammps, esys, kratos") in out.stderr
+    assert "Traceback" not in out.stderr and 'File "' not in out.stderr
+
+
 def test_malformed_case_stops_before_any_job(project):
     (project / "cases" / "broken.yaml").write_text("name: broken\nradius: 1 cm\nviscosity: 1 P\n"
                                                   "effective_modulus: 1 GPa\n")

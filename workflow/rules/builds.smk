@@ -30,8 +30,13 @@ def finish_build_checks(builds, futures):
         raise BuildError("config 'builds':\n  " + "\n  ".join(errors))
 
 
-# Checked at the end of workflow/rules/cases.smk, once the cases are planned.
-BUILDS, _BUILD_CHECKS = start_build_checks(config["builds"], workflow.basedir)
+# Checked at the end of workflow/rules/cases.smk, once the cases are planned. A build entry that
+# cannot be a build (an unknown code, a bad id) stops the workflow here with its message alone: a
+# traceback of the Snakefile would say nothing about the user's config.
+try:
+    BUILDS, _BUILD_CHECKS = start_build_checks(config["builds"], workflow.basedir)
+except BuildError as _err:
+    sys.exit(f"config 'builds': {_err}")
 BUILD_IDS = list(BUILDS)
 LAMMPS_BUILDS = [b for b, build in BUILDS.items() if build.code == "lammps"]
 

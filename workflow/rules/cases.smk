@@ -118,6 +118,8 @@ def plan_cases(cases):
             errors[stem] = str(err)
             continue
         names[case.name] = case.path
+        for note in plans[stem].get("notes", []):
+            print(f"Note: {note}", file=sys.stderr)
     return plans, errors
 
 

@@ -33,6 +33,7 @@ builds = list(snakemake.params.builds)
 code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b in snakemake.params.builds.values())}
 write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
                           not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
+                          plan_notes=plan.get("notes", []),
                           code_notes=code_notes, ladder=snakemake.params.ladder,
                           reference=pd.read_csv(snakemake.input.reference),
                           title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",

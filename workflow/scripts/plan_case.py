@@ -17,3 +17,5 @@ log.info("%s: %d runs planned, %d velocities not run, %d cells not available", l
          len(listing["not_run"]), len(listing["not_available"]))
 for skipped in listing["not_run"]:
     log.warning("not run: %s %s K = %.3g: %s", listing["case"], skipped["geometry"], skipped["K"], skipped["reason"])
+for note in listing.get("notes", []):
+    log.warning("%s", note)

@@ -50,6 +50,7 @@ if "calibration" in snakemake.input.keys():
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
 write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), timing, not_run, failed_runs,
                           builds=builds, not_available=not_available, code_notes=code_notes,
+                          plan_notes=[note for p in plans for note in p.get("notes", [])],
                           ladder=snakemake.params.ladder, case_reports=case_reports, comparisons=comparisons,
                           **optional), out, workers=snakemake.threads)
 log.info("report for verdict %s: %s", verdict["verdict"], snakemake.output.md)
