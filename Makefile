@@ -93,8 +93,9 @@ $(VENV)/.installed: pyproject.toml requirements/study.txt
 	python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet --require-hashes -r requirements/study.txt
 	$(PY) -m pip install --quiet --no-deps -e .
-	@# Compile the reference solver's numba kernel once here (cache=True), not in every first job.
-	$(PY) -c 'from reference import solve_collision; solve_collision(0.1)'
+	@# Compile the numba kernels once here (cache=True: the solver's single and batch kernels, the
+	@# engines' map), not in every first job or test process of a fresh clone (~15 s each).
+	$(PY) -m reference.warm_up
 	touch $@
 
 # Snakemake and the project as in $(VENV), plus snakemake-executor-plugin-slurm (pyproject's
@@ -105,7 +106,7 @@ $(SLURM_VENV)/.installed: pyproject.toml requirements/slurm.txt
 	python3 -m venv $(SLURM_VENV)
 	$(SLURM_VENV)/bin/python -m pip install --quiet --require-hashes -r requirements/slurm.txt
 	$(SLURM_VENV)/bin/python -m pip install --quiet --no-deps -e .
-	$(SLURM_VENV)/bin/python -c 'from reference import solve_collision; solve_collision(0.1)'
+	$(SLURM_VENV)/bin/python -m reference.warm_up
 	touch $@
 
 # Re-resolve the lock files from pyproject.toml (newest versions within its bounds, with hashes).

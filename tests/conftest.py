@@ -2,9 +2,10 @@
 also from the copied projects in tmp folders, which hold only the workflow: put the project first
 on PYTHONPATH, ahead of whatever `pip install -e` the venv points at.
 
-Every test is in one tier, by its file (`TIERS`): `unit` needs no engine and starts no workflow
-(`make test-unit`, on any machine, in under 30 s), `engine` runs real engines, `workflow` runs
-Snakemake (with real engines, and the SLURM cluster for test_slurm). `make test` runs all three.
+Every test is in one tier, by its file (`TIERS`) unless it is marked with a tier of its own:
+`unit` needs no engine and starts no workflow (`make test-unit`, on any machine, in under 30 s),
+`engine` runs real engines, `workflow` runs Snakemake (with real engines, and the SLURM cluster
+for test_slurm) or a browser. `make test` runs all three.
 """
 
 import os
@@ -27,7 +28,8 @@ def pytest_collection_modifyitems(config, items):
     import pytest
 
     for item in items:
-        item.add_marker(getattr(pytest.mark, tier_of(item.path.name)))
+        if not any(item.get_closest_marker(tier) for tier in ("unit", *TIERS)):  # a test's own tier holds
+            item.add_marker(getattr(pytest.mark, tier_of(item.path.name)))
 
 
 def tier_of(file_name: str) -> str:

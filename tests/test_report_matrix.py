@@ -248,6 +248,7 @@ def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
     assert (tmp_path / "plots" / "errors.png").stat().st_size > 0
 
 
+@pytest.mark.workflow  # a pool of drawing processes, the report twice: end to end
 def test_report_drawn_in_two_processes_is_the_same_report(study, tmp_path):
     """workers=2 (the report rule's two threads) draws the plots in forked processes while the
     text is written: the same report.md and report.html (but the minute it was generated), every
@@ -289,6 +290,7 @@ def test_every_build_gets_its_own_marker_and_colour_in_config_order():
     assert build_styles(["lammps-2025", "lammps-2021"])["lammps-2025"]["marker"] == styles["liggghts-3.8"]["marker"]
 
 
+@pytest.mark.workflow  # a real browser reads the report: end to end, not a unit (conftest.tier_of)
 def test_report_in_a_browser(study, tmp_path):
     """The report renders in a headless browser (Debian's chromium; CI installs it) and the
     browser's DOM holds the matrix with one row per build."""
