@@ -159,8 +159,6 @@ class ReportInputs:
     series_cmp: pd.DataFrame | None = None
     timing: dict | None = None
     not_run: list = field(default_factory=list)
-    #: The plans' notes (`engines.plan.Plan.notes`): what runs and what does not, in words.
-    plan_notes: list = field(default_factory=list)
     failed_runs: list = field(default_factory=list)
     convergence: pd.DataFrame | None = None
     convergence_orders: pd.DataFrame | None = None
@@ -177,6 +175,8 @@ class ReportInputs:
     ladder: dict | None = None
     title: str = "Viscoelastic Hertz contact in DEM engines: comparison report"
     folder: str = "results"
+    #: The plans' notes (`engines.plan.Plan.notes`): what runs and what does not, in words.
+    plan_notes: list = field(default_factory=list)
     case_reports: list = field(default_factory=list)
     comparisons: list = field(default_factory=list)
 

@@ -129,6 +129,20 @@ def test_a_study_of_one_build_one_case_one_geometry_and_one_law_passes_with_ever
     assert junit(project) == (checks * 3 + 3 * 2, set())  # and the reported-only regression checks, skipped
 
 
+def test_an_elastic_case_says_in_its_plan_and_its_reports_that_only_the_elastic_law_runs(project):
+    (project / "cases" / "steel.yaml").write_text(CASE.replace("6.7e5 P", "0 P").replace("K: [0.1]",
+                                                                                         "velocity: [1 m/s]"))
+    out = study(project, "laws=[viscoelastic,elastic,default]")  # the later laws= of --config holds
+    assert out.returncode == 0, out.stderr[-3000:]
+    note = ("steel: the viscosity is 0, an elastic contact: only the law 'elastic' runs; viscoelastic, default left "
+            "out (give a positive `viscosity:` to run them)")
+    assert f"Note: {note}" in out.stderr
+    assert note in json.loads((project / "results" / "steel" / "plan.json").read_text())["notes"]
+    for report in (project / "results" / "report.md", project / "results" / "steel" / "report.md"):
+        assert f"## What the plans say\n\n- {note}\n" in report.read_text(), report
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 3 ")
+
+
 def test_too_tight_tolerance_fails_and_no_earlier_pass_survives(project):
     ok = study(project)
     assert ok.returncode == 0, ok.stderr[-3000:]
