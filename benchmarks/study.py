@@ -16,9 +16,14 @@ proportional set size (PSS: a shared page counts once, split between its sharers
 comparison, of the resident set size (RSS, which counts the Python and MPI libraries that every job
 maps once per job).
 
-Targets (the speed issue), on the 2-core machine: full study wall / engine seconds <= 1.0, one
-material <= 1.5, peak memory of the full study <= 1 GB. Run with `make bench` (it rewrites
-results/).
+Targets (the speed issues), on the 2-core machine: full study <= 150 s with wall / engine seconds
+<= 1.05, one material <= 1.5, peak memory of the full study <= 1 GB. Run with `make bench` (it
+rewrites results/).
+
+Then where the seconds of the last full study went (`breakdown`): job-seconds per rule (every
+rule's Snakemake benchmark file, logs/benchmarks/<rule>/), and per engine code a least-squares fit
+of its case jobs' engine seconds to start-up + steps x per-step cost (the steps from the cases'
+plans), with the share of those steps spent in free flight before and after contact.
 """
 
 import glob
@@ -29,8 +34,12 @@ import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
+
+import numpy as np
 
 from engines.codes import code
+from reference import HERTZ_TAU
 
 REPEATS = 3
 TARGETS = (("one material (steel)", ["steel"], "results/steel/*/manifest.json", 1.5),
@@ -104,6 +113,64 @@ def run(target) -> tuple[float, int, int]:
     return wall, peak_pss, peak_rss
 
 
+def rule_seconds(since: float, root="logs/benchmarks") -> dict[str, tuple[int, float]]:
+    """{rule: (jobs, job-seconds)} of the Snakemake benchmark files written at or after `since`,
+    largest first (a rule's files are logs/benchmarks/<rule>/...tsv)."""
+    out: dict[str, list] = {}
+    for path in glob.glob(f"{root}/**/*.tsv", recursive=True):
+        if os.path.getmtime(path) < since:
+            continue
+        rule = Path(path).relative_to(root).parts[0]
+        lines = Path(path).read_text().splitlines()
+        seconds = float(lines[1].split("\t")[0]) if len(lines) > 1 else 0.0
+        jobs, total = out.get(rule, (0, 0.0))
+        out[rule] = (jobs + 1, total + seconds)
+    return dict(sorted(out.items(), key=lambda kv: -kv[1][1]))
+
+
+def engine_fit(since: float, results="results") -> dict[str, dict]:
+    """Per engine code, from its case jobs of the run (results/<case>/<build>/manifest.json
+    with results/<case>/plan.json): jobs, engine seconds, steps, the least-squares fit
+    seconds = start_s + steps x per_step_s, and free_flight (the share of steps before and after
+    contact: a run of dt = T_e / f has f tau_0 / HERTZ_TAU steps in contact)."""
+    rows: dict[str, list] = {}
+    for m in glob.glob(f"{results}/*/*/manifest.json"):
+        plan_path = Path(m).parents[1] / "plan.json"
+        if os.path.getmtime(m) < since or not plan_path.exists():
+            continue
+        manifest, plan = json.load(open(m)), json.load(open(plan_path))
+        runs = [r for r in plan["runs"] if r["build"] == manifest["build"]]
+        steps = sum(r["steps"] for r in runs)
+        contact = sum(min(r["steps"], r["time_step_factor"] * r["reference"]["tau_0"] / HERTZ_TAU) for r in runs)
+        rows.setdefault(manifest["engine"], []).append((manifest["engine_seconds"], steps, contact))
+    fits = {}
+    for engine, data in rows.items():
+        seconds, steps, contact = (np.array(x, dtype=float) for x in zip(*data))
+        if len(data) >= 2 and np.ptp(steps) > 0:
+            (per_step, start), *_ = np.linalg.lstsq(np.vstack([steps, np.ones_like(steps)]).T, seconds, rcond=None)
+        else:
+            per_step, start = seconds.sum() / steps.sum(), 0.0
+        fits[engine] = {"jobs": len(data), "seconds": seconds.sum(), "steps": int(steps.sum()), "start_s": start,
+                        "per_step_s": per_step, "free_flight": 1 - contact.sum() / steps.sum()}
+    return fits
+
+
+def breakdown(since: float) -> None:
+    """Print where the seconds of the run started at `since` went (see the module's docstring)."""
+    rules = rule_seconds(since)
+    total = sum(s for _, s in rules.values())
+    print(f"  where the last full study's seconds went: {total:.0f} job-seconds in {sum(j for j, _ in rules.values())} "
+          "jobs (two at a time); per rule, jobs and job-seconds:")
+    for rule, (jobs, seconds) in rules.items():
+        if seconds >= 0.5:
+            print(f"    {rule:24s} {jobs:4d} jobs {seconds:7.1f} s ({seconds / total:5.1%})")
+    print("  engine processes of the case jobs, fitted as start-up + steps x per-step cost:")
+    for engine, f in sorted(engine_fit(since).items(), key=lambda kv: -kv[1]["seconds"]):
+        print(f"    {engine:9s} {f['jobs']:2d} jobs {f['seconds']:6.1f} s, {f['steps']:8d} steps: start-up "
+              f"{f['start_s']:5.2f} s per process, {f['per_step_s'] * 1e6:6.1f} us per step; "
+              f"{f['free_flight']:.0%} of the steps in free flight")
+
+
 def main():
     print(f"study wall time, snakemake -j2 --forceall, {REPEATS} runs each (medians)")
     for label, target, pattern, goal in TARGETS:
@@ -125,6 +192,7 @@ def main():
               f"({'met' if ratio_runs <= goal else 'NOT met'}); peak memory (PSS) "
               f"{statistics.median(pss) / 2**20:.0f} MiB (max {max(pss) / 2**20:.0f}; goal <= 1024 for the full "
               f"study), peak RSS sum {statistics.median(rss) / 2**20:.0f} MiB")
+    breakdown(run.started)  # of the last run: the full study's
 
 
 if __name__ == "__main__":

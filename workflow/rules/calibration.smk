@@ -45,6 +45,7 @@ rule calibration_fit:
         engine_parameters="results/calibration/{cal_case}/engine_parameters.csv",
         png="results/calibration/{cal_case}/fit.png",
     log: "logs/calibration/{cal_case}/fit.log"
+    benchmark: "logs/benchmarks/calibration_fit/{cal_case}.tsv"
     params: modulus_factors=CALIBRATION["modulus_factors"]
     resources: **cluster_resources()
     script: "../scripts/calibration_fit.py"
@@ -60,6 +61,7 @@ rule calibration_dem:
         manifest="results/calibration/{cal_case}/dem/manifest.json",
         runs=directory("results/calibration/{cal_case}/dem/runs"),
     log: "logs/calibration/{cal_case}/dem.log"
+    benchmark: "logs/benchmarks/calibration_dem/{cal_case}.tsv"
     params: build=lambda w: build_params(calibration_build().id), time_step_factor=CALIBRATION["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"]
     threads: lambda w: CODES[calibration_build().code].processes  # as run_engine (ESyS: two MPI ranks)
@@ -81,6 +83,7 @@ rule calibration_loop:
         csv="results/calibration/{cal_case}/loop.csv",
         png="results/calibration/{cal_case}/fit_with_dem.png",
     log: "logs/calibration/{cal_case}/loop.log"
+    benchmark: "logs/benchmarks/calibration_loop/{cal_case}.tsv"
     resources: **cluster_resources()
     script: "../scripts/calibration_loop.py"
 
@@ -91,6 +94,7 @@ rule closed_forms:
         errors="results/calibration/closed_forms.csv",
         bias="results/calibration/closed_form_bias.csv",
     log: "logs/calibration/closed_forms.log"
+    benchmark: "logs/benchmarks/closed_forms/all.tsv"
     params: settings=CALIBRATION["closed_forms"]
     resources: **cluster_resources()
     script: "../scripts/closed_forms.py"
@@ -106,4 +110,5 @@ rule calibration_report:
         bias="results/calibration/closed_form_bias.csv",
     output: "results/calibration/report.md"
     log: "logs/calibration/report.log"
+    benchmark: "logs/benchmarks/calibration_report/all.tsv"
     script: "../scripts/calibration_report.py"

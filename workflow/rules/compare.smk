@@ -18,6 +18,7 @@ rule compare_studies:
         html="results/compare/compare.html",
         junit="results/compare/compare-junit.xml",
     log: "logs/compare/studies.log"
+    benchmark: "logs/benchmarks/compare_studies/all.tsv"
     params: factor=config["compare_factor"], tolerance=config["tolerance"], builds=None
     script: "../scripts/compare_studies.py"
 
@@ -27,6 +28,7 @@ rule compare_gate:
     input: "results/compare/compare.csv"
     output: "results/compare/gate.txt"
     log: "logs/compare/gate.log"
+    benchmark: "logs/benchmarks/compare_gate/all.tsv"
     script: "../scripts/compare_gate.py"
 
 
@@ -55,6 +57,7 @@ rule compare_builds:
         html="results/compare/{baseline}_vs_{candidate}/compare.html",
         junit="results/compare/{baseline}_vs_{candidate}/compare-junit.xml",
     log: "logs/compare/{baseline}_vs_{candidate}.log"
+    benchmark: "logs/benchmarks/compare_builds/{baseline}/{candidate}.tsv"
     params: factor=config["compare_factor"], tolerance=config["tolerance"],
             builds=lambda w: (w.baseline, w.candidate)
     script: "../scripts/compare_studies.py"

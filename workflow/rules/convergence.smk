@@ -29,7 +29,7 @@ rule convergence_runs:
         manifest="results/convergence/{build}/manifest.json",
         runs=directory("results/convergence/{build}/runs"),
     log: "logs/convergence/{build}.log"
-    benchmark: "logs/benchmarks/convergence/{build}.tsv"
+    benchmark: "logs/benchmarks/convergence_runs/{build}.tsv"
     params: convergence=config["convergence"], timeout_floor_s=config["engine_timeout_floor_s"],
             build=lambda w: build_params(w.build),
             # solved here already (the priority's plan): the job need not load the kernel again
@@ -54,6 +54,7 @@ rule convergence_summary:
         spread="results/convergence/build_spread.csv",
         plot="results/plots/convergence.png",
     log: "logs/convergence/summary.log"
+    benchmark: "logs/benchmarks/convergence_summary/all.tsv"
     params: thresholds=config["convergence"]["thresholds"], case=config["convergence"]["case"]
     script: "../scripts/convergence_summary.py"
 

@@ -40,6 +40,7 @@ rule plan:
     input: case=lambda w: CASES[w.case], codes=CODES_FILE  # which laws each code can run
     output: "results/{case}/plan.json"
     log: "logs/{case}/plan.log"
+    benchmark: "logs/benchmarks/plan/{case}.tsv"
     params: listing=lambda w: PLANS[w.case]  # planned when the workflow started (workflow/rules/cases.smk)
     # The case summary waits for it: at priority 0 it ran after the last engine job, in series
     # with each case's summary on the study's tail.
@@ -57,7 +58,7 @@ rule run_engine:
         manifest="results/{case}/{build}/manifest.json",
         runs=directory("results/{case}/{build}/runs"),
     log: "logs/{case}/{build}.log"
-    benchmark: "logs/benchmarks/{case}/{build}.tsv"
+    benchmark: "logs/benchmarks/run_engine/{case}/{build}.tsv"
     # The plan from the workflow (what the plan rule writes to plan.json), not the file: the job
     # is then ready when the study starts (ALL_CORES_FIRST). A changed plan changes these params,
     # and Snakemake reruns the job.
@@ -76,6 +77,7 @@ rule case_summary:
         runs=expand("results/{{case}}/{build}/runs", build=BUILD_IDS),
     output: "results/{case}/summary.csv"
     log: "logs/{case}/summary.log"
+    benchmark: "logs/benchmarks/case_summary/{case}.tsv"
     priority: CRITICAL_PATH
     resources: **cluster_resources(runtime=10, mem_mb=2000)
     script: "../scripts/case_summary.py"

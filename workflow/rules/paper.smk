@@ -17,6 +17,7 @@ rule paper_reference:
             figure_1="results/paper/fig1_phi.png",
             figure_5="results/paper/fig5_fracture.png", figure_5_csv="results/paper/fig5_fracture.csv"
     log: "logs/paper/reference.log"
+    benchmark: "logs/benchmarks/paper_reference/all.tsv"
     params: P0=config["paper"]["fracture"]["P0"]
     resources: **cluster_resources()
     script: "../scripts/paper_reference.py"
@@ -27,6 +28,7 @@ rule paper_figure_3:
     input: summary="results/summary.csv"
     output: png="results/paper/fig3_eps_collapse.png"
     log: "logs/paper/figure_3.log"
+    benchmark: "logs/benchmarks/paper_figure_3/all.tsv"
     params: figure=3
     priority: CRITICAL_PATH  # between the summary and the report
     script: "../scripts/paper_figure.py"
@@ -48,6 +50,7 @@ rule paper_energy_runs:
         manifest="results/paper/energy_runs/manifest.json",
         runs=directory("results/paper/energy_runs/runs"),
     log: "logs/paper/energy_runs.log"
+    benchmark: "logs/benchmarks/paper_energy_runs/all.tsv"
     params: energy=config["paper"]["energy"], build=build_params(BUILD_IDS[0]), time_step_factor=config["time_step_factor"],
             timeout_floor_s=config["engine_timeout_floor_s"], reference=lambda w: references_of(energy_plan())
     threads: CODES[BUILDS[BUILD_IDS[0]].code].processes  # as run_engine (ESyS: two MPI ranks)
@@ -62,5 +65,6 @@ rule paper_figure_4:
     input: manifest="results/paper/energy_runs/manifest.json", runs="results/paper/energy_runs/runs"
     output: png="results/paper/fig4_energy.png", csv="results/paper/fig4_energy.csv"
     log: "logs/paper/figure_4.log"
+    benchmark: "logs/benchmarks/paper_figure_4/all.tsv"
     params: figure=4
     script: "../scripts/paper_figure.py"

@@ -7,6 +7,6 @@ rule reference_tables:
     that solves pays ~2 s of imports and numba's start-up, more than either table's own work."""
     output: collisions="results/reference/collisions.csv", series="results/reference/series.csv"
     log: "logs/reference_tables.log"
-    benchmark: "logs/benchmarks/reference_tables.tsv"
+    benchmark: "logs/benchmarks/reference_tables/all.tsv"
     params: grid=config["reference"]["K_grid"], order=config["reference"]["series_order"]
     script: "../scripts/reference_tables.py"

@@ -13,6 +13,7 @@ rule lammps_regression_runs:
             # process seconds (which benchmarks/study.py sums)
             manifest="results/lammps/{lammps_build}/manifest.json"
     log: "logs/lammps_regressions/{lammps_build}.log"
+    benchmark: "logs/benchmarks/lammps_regression_runs/{lammps_build}.tsv"
     params: build=lambda w: build_params(w.lammps_build), timeout_floor_s=config["engine_timeout_floor_s"]
     resources: **cluster_resources()
     script: "../scripts/lammps_regression_runs.py"
@@ -23,4 +24,5 @@ rule lammps_regressions:
     input: expand("results/lammps/{lammps_build}/regressions.csv", lammps_build=LAMMPS_BUILDS)
     output: "results/lammps/regressions.csv"
     log: "logs/lammps_regressions.log"
+    benchmark: "logs/benchmarks/lammps_regressions/all.tsv"
     script: "../scripts/lammps_regressions.py"

@@ -5,6 +5,7 @@ rule summary:
     input: expand("results/{case}/summary.csv", case=CASES)
     output: "results/summary.csv"
     log: "logs/summary.log"
+    benchmark: "logs/benchmarks/summary/all.tsv"
     priority: CRITICAL_PATH
     script: "../scripts/study_summary.py"
 
@@ -39,6 +40,7 @@ rule checks:
         junit="results/junit.xml",
         verdict="results/verdict.json",
     log: "logs/checks.log"
+    benchmark: "logs/benchmarks/checks/all.tsv"
     params: tolerance=config["tolerance"]
     priority: CRITICAL_PATH
     script: "../scripts/study_checks.py"
@@ -63,6 +65,7 @@ rule report:
         md="results/report.md",
         html="results/report.html",
     log: "logs/report.log"
+    benchmark: "logs/benchmarks/report/all.tsv"
     params: builds={b: build_params(b) for b in BUILD_IDS}, ladder=config["ladder"]
     # Its plots are drawn in two processes (postprocess.report_plots.start_drawing): it runs last,
     # when every other job is done (only the gate waits for it).
@@ -76,6 +79,7 @@ rule gate:
     input: verdict="results/verdict.json", summary="results/summary.csv", report="results/report.md"
     output: "results/gate.txt"
     log: "logs/gate.log"
+    benchmark: "logs/benchmarks/gate/all.tsv"
     params: report="results/report.md"
     script: "../scripts/gate.py"
 
@@ -96,6 +100,7 @@ rule case_verdict:
         md="results/{case}/report.md",
         html="results/{case}/report.html",
     log: "logs/{case}/verdict.log"
+    benchmark: "logs/benchmarks/case_verdict/{case}.tsv"
     params: tolerance=config["tolerance"], builds={b: build_params(b) for b in BUILD_IDS}, ladder=config["ladder"]
     # On the study's critical path (the report links every case's): drawn as soon as its case
     # summary is there, beside the other cases' engine jobs, not on the study's tail (~4 s each).
@@ -107,5 +112,6 @@ rule case_gate:
     input: verdict="results/{case}/verdict.json", summary="results/{case}/summary.csv"
     output: "results/{case}/gate.txt"
     log: "logs/{case}/gate.log"
+    benchmark: "logs/benchmarks/case_gate/{case}.tsv"
     params: report="results/{case}/report.md"
     script: "../scripts/gate.py"
