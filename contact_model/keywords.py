@@ -1,0 +1,188 @@
+r"""The Hertz normal-damping keywords the engines offer, as data: what each computes, in the Hertz
+units of `reference`, and what it promises.
+
+Every keyword here adds to the Hertz force (4/3) E* sqrt(R*) delta^{3/2} a damping force; in
+x = delta/delta_e, tau = t V/delta_e (delta_e = (15 M* V^2 / (16 E* sqrt(R*)))^{2/5}) each is one of
+
+- ``quarter``: x'' + b x^{1/4} x' + (5/4) x^{3/2} = 0, b a function of what the user wrote (e, or a
+  damping ratio) and nothing else: the restitution is the same at every velocity
+  (`reference.quarter_power_damping` solves it in closed form);
+- ``half``: x'' + K x^{1/2} x' + (5/4) x^{3/2} = 0 (Kuwabara-Kono / Brilliantov), K growing as
+  V^{1/5}: the study's viscoelastic law (`reference.collision_ode`);
+- ``velocity``: x'' + c x' + (5/4) x^{3/2} = 0, c falling as V^{-1/5};
+
+with the total force clipped at zero where the code clips it. `KEYWORDS` holds each keyword's
+form, its map from the user's input to the coefficient exactly as the code computes it (read from
+each release's source, cited in `source`; docs/keywords.md), whether it clips, the releases that
+have it, and a departure of the code from its documentation that is known upstream.
+
+Its promise: a restitution keyword told e should restitute e. `promised_restitution` gives what its
+own equation restitutes, exactly, under the criterion its force allows (x0 when the tail is kept,
+F0 when clipped), so that ``eps_own - e`` is the error of the keyword's map, which an engine that
+computes the keyword right reproduces (the engines' side is gated against the same equation).
+
+Out of scope (not Hertz in the normal direction): LIGGGHTS ``model hooke`` (and ``hooke/stiffness``,
+``hooke/hysteresis``), LAMMPS ``hooke`` and ``dmt``/``jkr`` (adhesive), Kratos's ``DEM_D_Linear_*``
+laws and ``DEM_D_Hertz_viscous_Coulomb2D`` (a linear spring given the Hertz map), ESyS's linear
+walls; plastic laws (LIGGGHTS ``thornton_ning``, ``edinburgh``; Kratos ``DEM_D_Conical_damage``
+after damage starts) damp by hysteresis, not by a dashpot.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+#: Thornton et al. (2013), Table 2: the coefficients h_1 ... h_10 of alpha(e) = sum h_i e^i, whose
+#: beta(e) = sqrt(1 / (1 - (1 + e)^2 exp(alpha)) - 1) YADE (`en`, 2023.02a) and Kratos
+#: (GammaForHertzThornton, 9.3 ... 10.4) both code.
+THORNTON_H = (-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11494.29, -11342.18, 6276.757,
+              -1489.915)
+
+
+def log_beta(e: float, pi: float = math.pi) -> float:
+    """|beta| = -ln e / sqrt(ln^2 e + pi^2): the damping ratio of a linear spring-dashpot that
+    restitutes e (LIGGGHTS, LAMMPS coeff_restitution, ESyS HertzMindlinVisco, which writes pi as
+    3.1415926)."""
+    lg = math.log(e)
+    return -lg / math.sqrt(lg * lg + pi * pi)
+
+
+def thornton_beta(e: float) -> float:
+    """Thornton et al. (2013)'s (B6): beta = sqrt(1 / (1 - (1 + e)^2 exp(alpha(e))) - 1), the
+    fit YADE and Kratos use for a clipped Hertz contact (0 at e = 1)."""
+    if e >= 1.0:
+        return 0.0
+    alpha = 0.0
+    for h in reversed(THORNTON_H):  # Horner, as both codes write it
+        alpha = e * (h + alpha)
+    return math.sqrt(1.0 / (1.0 - (1.0 + e) ** 2 * math.exp(alpha)) - 1.0)
+
+
+def kratos_gamma(e: float) -> float:
+    """Kratos's GammaForHertzThornton (sphere_strategy.py:617-637 @ 10.4.0): `thornton_beta` with
+    e raised to 0.001 below it and gamma = 0 above 0.999."""
+    if e > 0.999:
+        return 0.0
+    return thornton_beta(max(e, 0.001))
+
+
+def lammps_tsuji_alpha(e: float) -> float:
+    """LAMMPS's `damping tsuji` alpha(e) (Marshall 2009's fit of Tsuji et al. 1992):
+    1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6."""
+    return (1.2728 - 4.2783 * e + 11.087 * e**2 - 22.348 * e**3 + 27.467 * e**4 - 18.022 * e**5
+            + 4.8218 * e**6)
+
+
+#: sqrt(15/2): b per unit of a coefficient c in c_n = 2 c sqrt(M* k_t), k_t = 2 E* sqrt(R* delta)
+#: (the tangent stiffness; YADE and Kratos).
+ROOT_15_2 = math.sqrt(7.5)
+
+
+@dataclass(frozen=True)
+class Keyword:
+    """One damping keyword of one code.
+
+    Attributes
+    ----------
+    name : str
+        The registry's key, '<code>:<keyword>'.
+    code : str
+        The engine code (engines.codes) that offers it.
+    written : str
+        How a user writes it in the code's input.
+    form : str
+        'quarter', 'half' or 'velocity' (see the module's docstring).
+    clipped : bool
+        Whether the code clips the total normal force at zero (by default).
+    told : str
+        What the user gives: 'e' (a restitution coefficient), 'beta' (a damping ratio) or 'eta'.
+    coefficient : callable or None
+        For the 'quarter' form: told value -> b, exactly as the code computes it.
+    documented : callable or None
+        The b of the equation its documentation states, where it differs from `coefficient`
+        (a departure of the code from its documentation); None: the same.
+    releases : str
+        The releases of the study's builds that have it.
+    source : str
+        Where the code computes it (file:line@release).
+    known_defect : str
+        A departure known upstream (with the issue or PR and the releases it affects); ''.
+    """
+
+    name: str
+    code: str
+    written: str
+    form: str
+    clipped: bool
+    told: str
+    coefficient: Callable[[float], float] | None
+    releases: str
+    source: str
+    documented: Callable[[float], float] | None = None
+    known_defect: str = ""
+
+    @property
+    def criterion(self) -> str:
+        """The end of contact its force allows: F0 when it clips, x0 when the tail is kept."""
+        return "F0" if self.clipped else "x0"
+
+    def b(self, told: float) -> float:
+        """The coefficient b of x'' + b x^{1/4} x' + (5/4) x^{3/2} = 0 for the told value."""
+        if self.coefficient is None:
+            raise ValueError(f"{self.name} is not a restitution keyword of the x^(1/4) form")
+        return self.coefficient(told)
+
+
+_TSUJI_DEFECT = ("LAMMPS applies Tsuji's alpha(e), fitted with the particle's mass, to the reduced mass M* "
+                 "and so damps sqrt(2) too little (b = sqrt(5/4) alpha instead of sqrt(5/2) alpha); in every "
+                 "release up to 22 Jul 2025 (update 4) and 4 Jul 2026; fixed on the development branch "
+                 "(`damp *= MY_SQRT2`, discussed in lammps/lammps PR #5113, documented as changed in 2 Sep 2026)")
+
+KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
+    Keyword("liggghts:hertz-coefficientRestitution", "liggghts",
+            "pair_style gran model hertz + fix property/global coefficientRestitution", "quarter", False, "e",
+            lambda e: 2.5 * log_beta(e), "3.8.0",
+            "src/normal_model_hertz.h:231-255, src/global_properties.cpp:539 @3.8.0 (limitForce off by default: "
+            "src/settings.h:237)"),
+    Keyword("lammps:tsuji", "lammps", "pair_style granular hertz/material E e nu damping tsuji", "quarter", False,
+            "e", lambda e: math.sqrt(1.25) * lammps_tsuji_alpha(e), "29 Sep 2021 ... 22 Jul 2025",
+            "src/GRANULAR/pair_granular.cpp:369-370, 986-992 @stable_29Sep2021_update2; "
+            "src/GRANULAR/gran_sub_mod_damping.cpp (GranSubModDampingTsuji) @stable_22Jul2025",
+            known_defect=_TSUJI_DEFECT),
+    Keyword("lammps:coeff_restitution", "lammps", "pair_style granular hertz/material E e nu damping coeff_restitution",
+            "quarter", False, "e", lambda e: 2.5 * log_beta(e), "29 Aug 2024 ... (not in 29 Sep 2021)",
+            "src/GRANULAR/gran_sub_mod_damping.cpp:161-185 @stable_29Aug2024 (PR #4068)"),
+    Keyword("yade:en", "yade", "Ip2_FrictMat_FrictMat_MindlinPhys(en=e)", "quarter", True, "e",
+            lambda e: ROOT_15_2 * thornton_beta(e), "2023.02a",
+            "pkg/dem/HertzMindlin.cpp:76-104 (Thornton 2013 (B6)), :352-356 (c_n = 2 beta_n sqrt(m k_n)), "
+            ":389-402 (the clip) @2023.02a"),
+    Keyword("yade:betan", "yade", "Ip2_FrictMat_FrictMat_MindlinPhys(betan=beta)", "quarter", True, "beta",
+            lambda beta: ROOT_15_2 * beta, "2023.02a",
+            "pkg/dem/HertzMindlin.cpp:106-109, :352-356, :389-402 @2023.02a"),
+    Keyword("kratos:hertz-COEFFICIENT_OF_RESTITUTION", "kratos",
+            "DEM_D_Hertz_viscous_Coulomb with COEFFICIENT_OF_RESTITUTION", "quarter", True, "e",
+            lambda e: ROOT_15_2 * kratos_gamma(e), "9.3 ... 10.4",
+            "DEMApplication/sphere_strategy.py:617-637 (GammaForHertzThornton) @10.4.0; "
+            "DEM_D_Hertz_viscous_Coulomb_CL.cpp CalculateViscoDampingForce (2 gamma sqrt(M* kn)) and the clip "
+            "in CalculateForces (checked in the 10.4.0 library)"),
+    Keyword("esys:HertzMindlinVisco", "esys", "HertzMindlinViscoPrms(E, nu, mu, COR)", "quarter", False, "e",
+            lambda e: 2.5 * log_beta(e, pi=3.1415926), "2.3.5",
+            "Model/HertzMindlinViscoInteraction.cpp:135-147 @2.3.5 (Antypov 2011, eq. 6; pi written 3.1415926; "
+            "the force is not clipped)"),
+)}
+
+
+def promised_restitution(keyword: str, e: float) -> float:
+    """What `keyword`'s own equation restitutes when told `e`, exactly, under the criterion its
+    force allows (`Keyword.criterion`); its promise error is this minus e."""
+    from reference.quarter_power_damping import restitution_quarter_power
+
+    k = KEYWORDS[keyword]
+    return restitution_quarter_power(k.b(e), k.criterion)
+
+
+def restitution_keywords() -> list[str]:
+    """The keywords told a restitution coefficient (their promise: eps = e)."""
+    return [name for name, k in KEYWORDS.items() if k.told == "e"]
