@@ -39,7 +39,7 @@ from __future__ import annotations
 import difflib
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import yaml
@@ -72,6 +72,11 @@ class Case:
     measurements: object = None  # a measurement_file.Measurements, or None
     #: The unit `viscosity:` is written in ('P', 'mPa*s'): the calibration answers in it too.
     viscosity_unit: str = "Pa*s"
+    #: `impact: restitution`: the restitution coefficients to run at the first impact velocity,
+    #: and the end of contact they refer to ('F0' or 'x0'). The pairs' eta restitutes the first;
+    #: `restitution_variants` gives one case per restitution.
+    restitutions: tuple[float, ...] = ()
+    restitution_criterion: str = "F0"
 
     def pair(self, geometry: str) -> ContactPair:
         for p in self.pairs:
@@ -231,9 +236,20 @@ def parse_case(data, path) -> Case:
     if not isinstance(data, dict):
         got = "nothing (an empty file)" if data is None else f"a {type(data).__name__}: {data!r:.60}"
         raise CaseError(path, "(top level)", f"a case file must be a YAML mapping of fields, got {got}")
+    impact = data.get("impact")
+    if isinstance(impact, dict) and "restitution" in impact and "velocity" not in impact:
+        _restitution(data, path)  # refuses it naming impact.restitution, before the schema's 'K or velocity'
     _check_schema(data, path)
     name = data.get("name", Path(str(path)).stem)
-    eta = quantity(data["viscosity"], "viscosity", path)
+    restitutions, criterion = _restitution(data, path)
+    if restitutions and "viscosity" in data:
+        raise CaseError(path, "viscosity", "the impact's restitution sets the viscosity (the eta that restitutes it "
+                                           "at the impact velocity): leave `viscosity:` out, or give K or velocity "
+                                           "alone")
+    if not restitutions and "viscosity" not in data:
+        raise CaseError(path, "viscosity", "missing (or give `impact: {restitution: [...], velocity: [...]}`, "
+                                           "which sets it)")
+    eta = quantity(data["viscosity"], "viscosity", path) if not restitutions else 0.0  # set below
     if not (eta >= 0 and math.isfinite(eta)):
         raise CaseError(path, "viscosity", f"must be non-negative, got {data['viscosity']!r}")
 
@@ -256,12 +272,58 @@ def parse_case(data, path) -> Case:
     K, velocities = _impact(data, path)
     if K and eta == 0:
         raise CaseError(path, "impact.K", "a target K needs a positive viscosity")
+    if restitutions:  # the eta that restitutes the first restitution at the first velocity, per contact
+        pairs = tuple(replace(p, eta=_viscosity_for_restitution(p, velocities[0], restitutions[0], criterion, 0,
+                                                                path)) for p in pairs)
+        for i, r in enumerate(restitutions[1:], start=1):
+            _viscosity_for_restitution(pairs[0], velocities[0], r, criterion, i, path)  # reachable?
     measurements = _measurements(data, pairs, path)
     known = {"name", "description", "viscosity", "bodies", "effective_modulus", "radius",
              "density", "geometries", "impact", "measurements"}
     extra = {k: v for k, v in data.items() if k not in known}  # the documentation keys
     return Case(str(name), str(path), pairs, K, velocities, str(data.get("description", "")), extra,
-                measurements, viscosity_unit=written_unit(data["viscosity"]))
+                measurements, viscosity_unit=written_unit(data["viscosity"]) if "viscosity" in data else "Pa*s",
+                restitutions=restitutions, restitution_criterion=criterion)
+
+
+def _restitution(data: dict, path) -> tuple[tuple[float, ...], str]:
+    """The case's restitution coefficients and the criterion they refer to ((), 'F0' without)."""
+    impact = data.get("impact") or {}
+    if "criterion" in impact and "restitution" not in impact:
+        raise CaseError(path, "impact.criterion", "names the end of contact a restitution refers to: give it with "
+                                                  "`restitution:`")
+    if "restitution" not in impact:
+        return (), "F0"
+    if "velocity" not in impact:
+        raise CaseError(path, "impact.restitution", "needs the impact velocity it holds at: add `velocity: [...]` "
+                                                    f"beside it ({VELOCITY_MEANING}), not K")
+    return tuple(float(r) for r in impact["restitution"]), str(impact.get("criterion", "F0"))
+
+
+def _viscosity_for_restitution(pair, V: float, eps: float, criterion: str, i: int, path) -> float:
+    """The eta [Pa s] whose viscoelastic collision of `pair` at V restitutes eps under `criterion`;
+    a CaseError naming impact.restitution[i] when no eta does."""
+    from reference.dissipation_for_restitution import dissipation_for_restitution
+
+    from .collision_scales import viscosity_for_dissipation
+
+    try:
+        K = dissipation_for_restitution(eps, criterion)
+    except ValueError as err:
+        raise CaseError(path, f"impact.restitution[{i}]", f"no viscoelastic law can reach it: {err}") from None
+    return viscosity_for_dissipation(pair.E, pair.R, pair.M, V, K)
+
+
+def restitution_variants(case: Case) -> list[tuple[float, Case]]:
+    """(restitution, the case with each contact's eta set to restitute it at the first impact
+    velocity under the case's criterion) for every restitution of the case, in order; the
+    variants have no restitutions of their own. A case without restitutions: []."""
+    out = []
+    for i, r in enumerate(case.restitutions):
+        pairs = tuple(replace(p, eta=_viscosity_for_restitution(p, case.velocities[0], r, case.restitution_criterion,
+                                                                i, case.path)) for p in case.pairs)
+        out.append((r, replace(case, pairs=pairs, restitutions=())))
+    return out
 
 
 def _measurements(data: dict, pairs, path):

@@ -208,14 +208,22 @@ class Plan:
 def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3, 0.5),
               time_step_factor: float = 1000.0, match_K: float = 0.1,
               max_overlap_ratio: float = 0.5, roundoff_limit: float = ROUNDOFF_LIMIT,
-              ladder: dict | None = None) -> Plan:
+              ladder: dict | None = None, told: float | None = None) -> Plan:
     """Every run of `case` for the given engine builds (see `build_codes`) and laws, in a
     stable order: every build runs the same pairs, velocities, laws and time steps. A gated law
     runs a ladder of time steps (`ladder`, default DEFAULT_LADDER; `ladder_factors`), the
-    out-of-the-box law one run at T_e / time_step_factor.
+    out-of-the-box law one run at T_e / time_step_factor, told the restitution `told` (else
+    the reference's at match_K under its criterion).
+
+    A case with restitutions (`impact: restitution`) is planned once per restitution
+    (`contact_model.case_file.restitution_variants`): its contacts' eta set to restitute it at
+    the first impact velocity, the out-of-the-box law told it.
 
     Raises `PlanError` (naming the case file and the field) for a case the engines cannot run
     honestly: see the module's docstring."""
+    if case.restitutions:
+        return _plan_restitutions(case, engines, laws, K_grid, time_step_factor, match_K, max_overlap_ratio,
+                                  roundoff_limit, ladder)
     unknown = set(laws) - set(LAWS)
     if unknown:
         raise ValueError(f"unknown contact law(s) {sorted(unknown)}; known: {LAWS}")
@@ -257,8 +265,9 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     solved = _with_solutions({*Ks.values(), 0.0}, solved)
     reference, elastic = {key: solved[K] for key, K in Ks.items()}, solved[0.0]
     builds = build_codes(engines)
-    matched = ({code: matched_restitution(code, match_K) for code in set(builds.values())
-                if law_unavailable(code, "default") is None} if "default" in laws else {})
+    matched = ({code: told if told is not None else matched_restitution(code, match_K)
+                for code in set(builds.values()) if law_unavailable(code, "default") is None}
+               if "default" in laws else {})
     for build, engine in builds.items():
         for pair in case.pairs:
             for law in laws:
@@ -286,6 +295,28 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     return plan
 
 
+def _plan_restitutions(case: Case, engines, laws, K_grid, time_step_factor, match_K, max_overlap_ratio,
+                       roundoff_limit, ladder) -> Plan:
+    """`plan_runs` of a case with restitutions: one plan per restitution, joined in order."""
+    from contact_model.case_file import restitution_variants
+
+    plan = Plan()
+    V = case.velocities[0]
+    for r, variant in restitution_variants(case):
+        sub = plan_runs(variant, engines, laws, K_grid, time_step_factor, match_K, max_overlap_ratio, roundoff_limit,
+                        ladder, told=r)
+        names = {run.name for run in plan.runs}
+        plan.runs += [run for run in sub.runs if run.name not in names]  # Hertz alone (K = 0) runs once
+        plan.skipped += [row for row in sub.skipped if row not in plan.skipped]
+        plan.not_available += [n for n in sub.not_available if n not in plan.not_available]
+        plan.notes += [n for n in sub.notes if n not in plan.notes]
+        plan.notes.append(f"{case.name}: restitution {r:g} under {case.restitution_criterion} at V = {V:.6g} m/s: "
+                          + "; ".join(f"{p.geometry} eta = {p.eta:.10g} Pa s (K = {p.dissipation_parameter(V):.8g})"
+                                      for p in variant.pairs)
+                          + f"; the out-of-the-box laws are told {r:g}")
+    return plan
+
+
 def _probe_ladder(probe: RunSpec, ladder: dict, laws) -> list[RunSpec]:
     """The rungs of the gated law of `laws` with the longest runs (the tail kept, then clipped,
     then elastic; elastic alone for an elastic contact) at the probe's velocity: the ladder whose
@@ -310,7 +341,7 @@ def plan_listing(case: Case, plan: Plan) -> dict:
                       "geometry": r.pair.geometry,
                       "represents": list(r.represents), "velocity": r.velocity, "K": r.K,
                       "time_step_factor": r.time_step_factor, "time_step": r.time_step, "steps": r.steps(),
-                      "matched_restitution": r.matched_restitution, "reference": r.reference}
+                      "matched_restitution": r.matched_restitution, "eta": r.pair.eta, "reference": r.reference}
                      for r in plan.runs],
             "not_run": plan.skipped, "not_available": plan.not_available, "notes": plan.notes}
 
@@ -335,7 +366,10 @@ def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunS
     for entry in listing["runs"]:
         if entry["build"] != build:
             continue
-        spec = RunSpec(name, entry["engine"], entry["law"], pairs[entry["geometry"]], entry["velocity"],
+        pair = pairs[entry["geometry"]]
+        if "eta" in entry and entry["eta"] != pair.eta:  # a case with restitutions: each its own eta
+            pair = replace(pair, eta=entry["eta"])
+        spec = RunSpec(name, entry["engine"], entry["law"], pair, entry["velocity"],
                        entry["time_step_factor"], matched_restitution=entry["matched_restitution"],
                        reference=entry["reference"], build=build)
         if spec.name != entry["name"]:

@@ -272,3 +272,56 @@ def test_fuzzed_case_files_are_read_or_refused_clearly(tmp_path, rnd):
 def test_every_mutation_is_exercised_by_the_corpus():
     kinds = {v.kind for v in fuzz.corpus(len(fuzz.ALL) * 2)}
     assert kinds == {m.__name__ for m in fuzz.ALL}
+
+
+RESTITUTION = """
+name: alumina
+effective_modulus: 190 GPa
+radius: 5 mm
+density: 3900 kg/m^3
+geometries: [sphere-plane]
+impact:
+  restitution: [0.8, 0.5]
+  velocity: [3.9 m/s]
+"""
+
+
+@pytest.mark.parametrize("criterion", ["F0", "x0"])
+def test_a_restitution_sets_the_viscosity_that_restitutes_it(tmp_path, criterion):
+    """impact: restitution [0.8, 0.5] at 3.9 m/s: each contact's eta restitutes 0.8 under the case's
+    criterion (F0 unless it says x0) to 1e-9 by the reference solver, the second variant 0.5."""
+    from contact_model.case_file import restitution_variants
+    from reference import solve_collision
+
+    text = RESTITUTION + (f"  criterion: {criterion}\n" if criterion == "x0" else "")
+    case = load_case(write(tmp_path, text))
+    assert case.restitutions == (0.8, 0.5) and case.restitution_criterion == criterion
+    (pair,) = case.pairs
+    assert solve_collision(pair.dissipation_parameter(3.9))[f"eps_{criterion}"] == pytest.approx(0.8, abs=1e-9)
+    variants = restitution_variants(case)
+    assert [r for r, _ in variants] == [0.8, 0.5] and all(not v.restitutions for _, v in variants)
+    K = variants[1][1].pairs[0].dissipation_parameter(3.9)
+    assert solve_collision(K)[f"eps_{criterion}"] == pytest.approx(0.5, abs=1e-9)
+
+
+@pytest.mark.parametrize("old, new, field, words", [
+    ("restitution: [0.8, 0.5]", "restitution: [0.8, 1.2]", "impact.restitution[1]", "must be a number in (0, 1)"),
+    ("restitution: [0.8, 0.5]", "restitution: [0, 0.5]", "impact.restitution[0]", "must be a number in (0, 1)"),
+    ("  velocity: [3.9 m/s]\n", "", "impact.restitution", "needs the impact velocity it holds at"),
+    ("restitution: [0.8, 0.5]", "restitution: [0.8, 0.01]", "impact.restitution[1]",
+     "no viscoelastic law can reach it: no K in [0, 10] restitutes 0.01 under F0"),
+    ("geometries: [sphere-plane]", "geometries: [sphere-plane]\nviscosity: 1 P", "viscosity",
+     "the impact's restitution sets the viscosity"),
+    ("  velocity: [3.9 m/s]", "  velocity: [3.9 m/s]\n  criterion: F1", "impact.criterion", "must be F0"),
+])
+def test_a_bad_restitution_is_refused_naming_its_field(tmp_path, old, new, field, words):
+    path = write(tmp_path, RESTITUTION.replace(old, new))
+    with pytest.raises(CaseError) as err:
+        load_case(path)
+    assert err.value.field == field and words in str(err.value) and str(path) in str(err.value)
+
+
+def test_a_case_without_viscosity_or_restitution_is_refused(tmp_path):
+    with pytest.raises(CaseError) as err:
+        load_case(write(tmp_path, GOOD.replace("viscosity: 6.7e5 P\n", "")))
+    assert err.value.field == "viscosity" and "missing" in str(err.value)

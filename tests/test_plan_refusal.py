@@ -152,3 +152,29 @@ def test_elastic_law_runs_hertz_alone_and_unavailable_laws_are_listed_with_their
     assert sorted((n["build"], n["law"], n["geometry"]) for n in p.not_available) == [
         ("yade", law, g) for law in ("viscoelastic", "viscoelastic_clipped") for g in ("sphere-plane", "sphere-sphere")]
     assert all(n["reason"] == reason for n in p.not_available)
+
+
+def test_a_case_of_restitutions_is_planned_once_per_restitution_with_its_own_eta(tmp_path):
+    """impact: {restitution: [0.8, 0.5], velocity: [1 m/s]}: the viscoelastic runs of each at the eta
+    that restitutes it (F0), the out-of-the-box law told it, Hertz alone once; the listing hands each
+    run its eta, and the runs rebuilt from it are the plan's."""
+    from engines.plan import plan_listing, runs_from_listing
+    from reference import solve_collision
+
+    path = tmp_path / "case.yaml"
+    path.write_text(STEEL.replace("viscosity: 6.7e5 P\n", "") + "geometries: [sphere-plane]\n"
+                    "impact: {restitution: [0.8, 0.5], velocity: [1 m/s]}\n")
+    case = load_case(path)
+    planned = plan_runs(case, ["lammps"], laws=["viscoelastic", "elastic", "default"])
+    by_law = {}
+    for run in planned.runs:
+        by_law.setdefault(run.law, []).append(run)
+    assert len({r.name for r in planned.runs}) == len(planned.runs)  # no run twice
+    assert sorted({round(solve_collision(r.K)["eps_F0"], 9) for r in by_law["viscoelastic"]}) == [0.5, 0.8]
+    assert sorted(r.matched_restitution for r in by_law["default"]) == [0.5, 0.8]
+    assert len(by_law["elastic"]) == 3  # one ladder, whatever the restitutions
+    assert len(planned.notes) == 2 and planned.notes[0].startswith("s: restitution 0.8 under F0 at V = 1 m/s: ")
+    listing = plan_listing(case, planned)
+    rebuilt = runs_from_listing(None, listing, "lammps")
+    assert [r.name for r in rebuilt] == [r.name for r in planned.runs]
+    assert [r.pair.eta for r in rebuilt] == [r.pair.eta for r in planned.runs]

@@ -143,6 +143,23 @@ def test_an_elastic_case_says_in_its_plan_and_its_reports_that_only_the_elastic_
     assert (project / "results" / "gate.txt").read_text().startswith("PASS: 3 ")
 
 
+def test_a_case_of_restitutions_runs_each_at_its_own_viscosity_and_passes(project):
+    """impact: {restitution: [0.8, 0.5], velocity: [1 m/s]} through the workflow with real LAMMPS:
+    two ladders per law, each at the eta that restitutes its eps (F0), which LAMMPS reproduces;
+    the out-of-the-box law told 0.8 and 0.5."""
+    (project / "cases" / "steel.yaml").write_text(CASE.replace("viscosity: 6.7e5 P\n", "").replace(
+        "  K: [0.1]", "  restitution: [0.8, 0.5]\n  velocity: [1 m/s]"))
+    out = study(project)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert "Note: steel: restitution 0.8 under F0 at V = 1 m/s: sphere-sphere eta = " in out.stderr
+    summary = pd.read_csv(project / "results" / "summary.csv")
+    limits = summary[(summary.law == "viscoelastic") & (summary.dt == 0) & (summary.criterion == "F0")]
+    assert sorted(limits.eps_ref.round(9)) == [0.5, 0.8] and (limits.err_eps.abs() < 1e-6).all()
+    plan = json.loads((project / "results" / "steel" / "plan.json").read_text())
+    assert sorted(r["matched_restitution"] for r in plan["runs"] if r["law"] == "default") == [0.5, 0.8]
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
+
+
 def test_too_tight_tolerance_fails_and_no_earlier_pass_survives(project):
     ok = study(project)
     assert ok.returncode == 0, ok.stderr[-3000:]
