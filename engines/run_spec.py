@@ -100,17 +100,25 @@ class RunSpec:
         of a ladder. Unaligned (exactly T_e / factor) for the out-of-the-box law, and where the
         reference is not solved (K > 10)."""
         T_e = self.scales["T_e"]
-        tau = self._reference_time(ALIGNED_END.get(self.law))
+        tau = self._reference_time(self.aligned_end)
         if tau is None:
             return T_e / self.time_step_factor
         return aligned_time_step(tau / HERTZ_TAU * T_e, T_e, self.time_step_factor)
 
+    @property
+    def aligned_end(self) -> str | None:
+        """The end of contact its time step is aligned to (`ALIGNED_END`; for the engine's keyword,
+        the end its force allows: F0 where it clips, x0 where it keeps the tail)."""
+        if self.law == "default":
+            return DEFAULT_LAW_CRITERION[self.engine]
+        return ALIGNED_END.get(self.law)
+
     def _reference_row(self) -> dict | None:
         """The reference solution at this run's K (None for K > 10, outside the solver's range)."""
+        if self.law == "default" or (self.reference is not None and self.K <= 10.0):
+            return self.reference  # an engine keyword's row is its own equation's, at any K
         if self.K > 10.0:
             return None
-        if self.reference is not None:
-            return self.reference
         return solve_collision(self.K) if self.K > 0 else None
 
     def _reference_time(self, end: str | None) -> float | None:
@@ -127,6 +135,8 @@ class RunSpec:
             return r["tau_0"]
         if end == "F0":
             return r["tau_f"]
+        if "tau_return" in r:  # an engine keyword's row (contact_model.keywords.keyword_reference)
+            return r["tau_return"]
         # After F0 a clipped run flies freely at eps_F0 from x_f, where (5/4) x_f + K x' = 0,
         # i.e. x_f = (4/5) K eps_F0: it touches zero (4/5) K later.
         return r["tau_f"] + 0.8 * self.K
@@ -164,8 +174,8 @@ class RunSpec:
         returns to zero, with a margin for the engines' own errors and for the default laws),
         and some free flight. A clipped run flies freely after F0 and is over sooner than the
         tail's x0 end (at K = 5: 5.9 against 14.7 in units of delta_e / V)."""
-        end = "F0 return" if self.law == "viscoelastic_clipped" else "x0"
-        tau = self._reference_time(end)
+        clipped = self.law == "viscoelastic_clipped" or (self.law == "default" and self.aligned_end == "F0")
+        tau = self._reference_time("F0 return" if clipped else "x0")
         if tau is None:  # K > 10: the solver's largest K, a lower bound of the contact's length
             tau = solve_collision(10.0)["tau_0"]
         contact_steps = 1.25 * tau / HERTZ_TAU * self.scales["T_e"] / self.time_step
@@ -186,7 +196,7 @@ class RunSpec:
         state = self.initial_state()
         X = abs(state["x1"]) + abs(state.get("x2", 0.0))
         r = self._reference_row()
-        x_max = r["x_max"] if r is not None and self.K > 0 else 1.0
+        x_max = r["x_max"] if r is not None and (self.K > 0 or self.law == "default") else 1.0
         return math.sqrt(self.steps()) * UNIT_ROUNDOFF * X / (x_max * self.scales["delta_e"])
 
     def initial_velocities(self) -> tuple[float, float]:
@@ -226,7 +236,7 @@ class RunSpec:
             "radius_2": None if p.body_2.is_plane else p.body_2.radius,
             "density_2": None if p.body_2.is_plane else p.body_2.density,
             "delta_e": s["delta_e"], "T_e": s["T_e"], "A_e": s["A_e"],
-            "ladder": self.ladder, "aligned_end": ALIGNED_END.get(self.law), "start_phase": START_PHASE,
+            "ladder": self.ladder, "aligned_end": self.aligned_end, "start_phase": START_PHASE,
             "roundoff_floor": self.roundoff_floor(),
         }
         if self.matched_restitution is not None:

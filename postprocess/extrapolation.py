@@ -41,7 +41,7 @@ from .comparison import measured
 GATED_QUANTITIES = ("T", "A", "eps")
 #: Columns a limit row takes from its finest rung unchanged (the run's description).
 _DESCRIPTION = ["case", "build", "engine", "engine_version", "law", "geometry", "criterion", "V", "K", "T_e", "A_e",
-                "Q1e", "Q2e", "ladder"]
+                "Q1e", "Q2e", "ladder", "eps_ref", "matched_restitution"]
 
 
 def extrapolated_rows(rows: pd.DataFrame) -> pd.DataFrame:
@@ -71,7 +71,7 @@ def _limit_row(g: pd.DataFrame) -> dict:
     h = g.h.to_numpy(dtype=float)
     # The expansion depends on whether the contact dissipates (K > 0), not on the law's name: an
     # elastic contact written as 'viscoelastic' with eta = 0 converges as dt^2 too.
-    powers = powers_of(0.0 if finest.law == "elastic" or float(finest.K) == 0 else 1.0)
+    powers = powers_of(0.0 if finest.law == "elastic" or float(finest.K) == 0 else 1.0, str(finest.law))
     floors = g.roundoff_floor.to_numpy(dtype=float)
     roundoff = ladder_roundoff(h, floors, powers) if np.isfinite(floors).all() else math.nan
     offsets = [phase_offset(p, START_PHASE) for p in g.start_phase.to_numpy(dtype=float)]

@@ -20,20 +20,19 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from contact_model import GATED_LAWS, GEOMETRIES
-from contact_model.constant_restitution import LAMMPS_B_PER_ALPHA, lammps_tsuji_alpha, restitution_of_damping
+from contact_model import GATED_LAWS, MODEL_LAWS
+from contact_model.keywords import KEYWORDS, promised_restitution
 from engines.codes import CODES, integrators
 from records.files import write_atomically
 from reference import FIRST_ORDER, HERTZ_TAU
 
 from .gate import GATED_QUANTITIES, gating, with_build
-from .report_matrix import (build_order, default_law_cells, default_matrix_html, default_matrix_markdown,
-                            matrix_cells, matrix_html, matrix_markdown)
-from .report_plots import plot_default_laws, plot_errors, plot_ratios, reference_curve, start_drawing
+from .report_matrix import build_order, matrix_cells, matrix_html, matrix_markdown
+from .report_plots import plot_errors, plot_ratios, reference_curve, start_drawing
 from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence
 
 #: Where the matrices go in the report's text (Markdown in report.md, HTML tables in report.html).
-MATRIX, DEFAULT_MATRIX = "@@gated-matrix@@", "@@default-matrix@@"
+MATRIX = "@@gated-matrix@@"
 
 
 def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:
@@ -97,17 +96,9 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
                            f"{integrators(raw.engine)} are one "
                            "discrete map on positions and half-step velocities, which damps with the velocity half a "
                            "step old and is first-order in dt.")
-    default = table[table.law == "default"]
-    for build, group in default.groupby("build", sort=False):
-        lo, hi = group.loc[group.K.idxmin()], group.loc[group.K.idxmax()]
-        out.append(f"{build}'s out-of-the-box law (restitution {group.matched_restitution.iloc[0]:.4f}, matched at one "
-                   f"velocity) gives eps {lo.eps:.4f} at K = {lo.K:.3g} where the viscoelastic model gives "
-                   f"{lo.eps_ref:.4f} ({lo.err_eps:+.1%}), and {hi.eps:.4f} vs {hi.eps_ref:.4f} at K = {hi.K:.3g} "
-                   f"({hi.err_eps:+.1%}): a constant restitution cannot follow eps(K) ~ 1 - "
-                   f"{-FIRST_ORDER['eps']:.4g} K.")
-        if group.engine.iloc[0] == "lammps":
-            out.append(_lammps_tsuji_finding(build, group))
-    x0 = table[(table.criterion == "x0") & table.law.isin(GATED_LAWS)]
+    out += [_keyword_finding(build, group) for build, group in
+            table[(table.law == "default") & (table.dt == 0)].groupby("build", sort=False)]
+    x0 = table[(table.criterion == "x0") & table.law.isin(MODEL_LAWS)]
     if len(x0):
         i = x0.K.idxmax()
         r = x0.loc[i]
@@ -120,7 +111,7 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
         for r in bad.itertuples():
             out.append(f"Paper's eq. {r.equation}: the K^{r.order} coefficient of {r.quantity} is printed as "
                        f"{r.paper:g}; the reference solver gives {r.computed:.4f}.")
-    f0 = table[(table.criterion == "F0") & table.law.isin(GATED_LAWS)]
+    f0 = table[(table.criterion == "F0") & table.law.isin(MODEL_LAWS)]
     if len(f0):
         r = f0.loc[f0.K.idxmax()]
         x0_slope = FIRST_ORDER["T/T_e"]
@@ -181,20 +172,51 @@ class ReportInputs:
     comparisons: list = field(default_factory=list)
 
 
-def _lammps_tsuji_finding(build: str, runs: pd.DataFrame) -> str:
-    """What LAMMPS's `damping tsuji` restitutes by its own equation of motion, told e, against
-    what it did (contact_model.constant_restitution): its alpha(e) lacks a factor sqrt(2)."""
-    told = float(runs.matched_restitution.iloc[0])
-    criterion = runs.criterion.iloc[0]
-    b = LAMMPS_B_PER_ALPHA * lammps_tsuji_alpha(told)
-    own, fixed = restitution_of_damping(b, criterion), restitution_of_damping(math.sqrt(2) * b, criterion)
-    worst = float((runs.eps - own).abs().max())
-    return (f"{build}'s `damping tsuji`, told e = {told:.4f}, restitutes {own:.4f} ({criterion}) by its own "
-            f"equation of motion, x'' + sqrt(5/4) alpha(e) x^(1/4) x' + (5/4) x^(3/2) = 0, and the engine gives "
-            f"that at every K to {worst:.1e}: the {own - told:+.4f} is LAMMPS's mapping, not its integration. "
-            "alpha(e) is Tsuji's fit for the particle's mass, which LAMMPS applies to the reduced mass: it damps "
-            f"sqrt(2) too little (LAMMPS's development branch adds the sqrt(2), PR #5113); with it e would give "
-            f"{fixed:.4f}, off by the fit's own {fixed - told:+.1e}. `damping coeff_restitution` is exact under x0.")
+def _keyword_section(limits: pd.DataFrame, builds) -> list[str]:
+    """The engines' restitution keywords: each against its own equation (gated: the law `default`
+    of the matrix above), what it promises, and the viscoelastic model's eps beside it."""
+    from reference import solve_collision
+
+    rows = []
+    for r in limits.itertuples():
+        keyword = KEYWORDS[CODES[r.engine].keyword]
+        told = float(r.matched_restitution)
+        own = promised_restitution(keyword.name, told)
+        model = solve_collision(float(r.K))[f"eps_{r.criterion}"] if 0 < r.K <= 10 else math.nan
+        rows.append({"case": r.case, "build": r.build, "geometry": r.geometry, "keyword": f"`{keyword.name}`",
+                     "criterion": r.criterion, "K": r.K, "told e": told, "eps, its equation": own,
+                     "promise error": own - told, "eps, engine (dt -> 0)": own * (1 + r.err_eps),
+                     "engine vs its equation": r.err_eps, "eps, viscoelastic model": model})
+    table = pd.DataFrame(rows)
+    order = build_order(builds, table)
+    table = table.iloc[np.lexsort((table.K.to_numpy(), [order.index(b) for b in table.build]))]
+    defects = {KEYWORDS[CODES[e].keyword].name: KEYWORDS[CODES[e].keyword].known_defect
+               for e in dict.fromkeys(limits.engine) if KEYWORDS[CODES[e].keyword].known_defect}
+    return ["## The engines' restitution keywords: their own equation, their promise", "",
+            "What a user runs: each code's own damping keyword told a restitution coefficient e "
+            "(docs/keywords.md). Each is gated against the equation its code computes, "
+            "x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 with b from e by the code's own map (the law `default` of "
+            "the matrix: ladders extrapolated to dt -> 0 against that equation's closed form); what that "
+            "equation restitutes against e is the keyword's promise, reported, not gated. The keywords are told "
+            "the viscoelastic model's eps at each case's K (or the case's own `restitution:`); the last column "
+            "is the model's eps there, the physics the keyword stands in for.", "",
+            _md_table(table, ".6g"), "",
+            *[f"- Known defect of `{name}`: {text}." for name, text in defects.items()], ""]
+
+
+def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
+    """What a build's restitution keyword did: its own equation at dt -> 0 (the gate), what that
+    equation restitutes when told e (its promise; contact_model.keywords), and its known defect."""
+    engine = limits.engine.iloc[0]
+    keyword = KEYWORDS[CODES[engine].keyword]
+    told = float(limits.matched_restitution.dropna().iloc[0]) if limits.matched_restitution.notna().any() else math.nan
+    worst = float(limits[[f"err_{q}" for q in GATED_QUANTITIES]].abs().max().max())
+    own = promised_restitution(keyword.name, told) if math.isfinite(told) else math.nan
+    text = (f"{build}'s {keyword.written} computes its own equation, x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 "
+            f"(b = {keyword.b(told):.6g} told e = {told:.4f}{', the force clipped' if keyword.clipped else ''}), to "
+            f"{worst:.1e} at dt -> 0; that equation restitutes {own:.6f} ({keyword.criterion}): its promise is off "
+            f"by {own - told:+.2e}.")
+    return text + (f" Known upstream: {keyword.known_defect}." if keyword.known_defect else "")
 
 
 def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
@@ -228,16 +250,11 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
         figures += [(plot_errors, (table, tolerance, plots / "errors.png", builds)),
                     (plot_ratios, (table, "x0", plots / "ratios_x0.png", curve, builds)),
                     (plot_ratios, (table, "F0", plots / "ratios_F0.png", curve, builds))]
-    if has_rows and (table.law == "default").any():
-        figures.append((plot_default_laws, (table, plots / "default_laws.png", curve, builds)))
     if len(limits) and len(ladder_runs):
         figures.append((plot_ladders, (ladder_runs, limits, tolerance, plots / "ladders.png", builds)))
     figures_drawn = start_drawing(figures, workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
-    default_cells = default_law_cells(table, not_available, builds) if has_rows else default_law_cells(
-        pd.DataFrame(), not_available, builds)
-    html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes), matrix_html(cells)),
-                   DEFAULT_MATRIX: (default_matrix_markdown(default_cells), default_matrix_html(default_cells))}
+    html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes), matrix_html(cells))}
 
     lines = [
         f"# {inputs.title}", "",
@@ -285,27 +302,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                       "![ladders](plots/ladders.png)", ""]
     lines += map_section(ladder_runs, builds)
     if has_rows and (table.law == "default").any():
-        d = table[table.law == "default"]
-        drift = d.groupby(["build", "geometry", "criterion"]).agg(
-            restitution=("matched_restitution", "first"),
-            eps_min=("eps", "min"), eps_max=("eps", "max"),
-            worst_eps_err=("err_eps", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
-            worst_T_err=("err_T", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))]),
-            worst_A_err=("err_A", lambda s: s.iloc[np.argmax(np.abs(s.to_numpy()))])).reset_index()
-        order = build_order(builds, drift)  # builds in config order, geometries in GEOMETRIES order
-        drift = drift.iloc[np.lexsort(([list(GEOMETRIES).index(g) if g in GEOMETRIES else len(GEOMETRIES)
-                                        for g in drift.geometry], [order.index(b) for b in drift.build]))]
-        lines += ["## Out-of-the-box laws against the viscoelastic model", "",
-                  "Each engine's own restitution law ("
-                  + "; ".join(f"{code}: {CODES[code].default_law}" for code in dict.fromkeys(table.engine)
-                              if code in CODES and CODES[code].default_law) +
-                  "), given the reference eps at one velocity as its restitution coefficient (under the "
-                  "criterion its default stands for: x0 where the attractive tail is kept, F0 where the force is "
-                  "clipped); compared, not "
-                  "gated. Each cell: the quantity (T, A or eps) with the largest relative error over every case and "
-                  "K, that error, and the criterion.", "", DEFAULT_MATRIX, "",
-                  "`restitution` is what the engine was told; `eps_min`/`eps_max` what it gave across the sweep.",
-                  "", _md_table(drift), "", "![default laws](plots/default_laws.png)", ""]
+        lines += _keyword_section(table[table.law == "default"], builds)
     if series_cmp is not None:
         pub = series_cmp.dropna(subset=["paper"])
         lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",

@@ -7,9 +7,8 @@ worst, and, where a build's code cannot express the law, why not. This module co
 matrix from the checks and the plans' ``not_available`` cells (pure functions, DataFrames in
 and out) and renders it as Markdown and as an HTML table. The long table stays in checks.csv.
 
-The out-of-the-box law (``default``) is compared, not gated: it has no pass/fail, so it gets a
-matrix of its own (`default_law_cells`) with its worst relative error, not a cell among the
-gated ones.
+The engines' own restitution keywords (law ``default``) are gated against their own equation
+and have their cells here like the model's laws.
 """
 
 from __future__ import annotations
@@ -353,108 +352,3 @@ def matrix_html(cells: pd.DataFrame) -> str:
             + "\n</tbody>\n</table>")
 
 
-def default_law_cells(table: pd.DataFrame, not_available=(), builds: Sequence[str] | None = None) -> pd.DataFrame:
-    """The out-of-the-box law, compared (not gated): one row per build x geometry.
-
-    Parameters
-    ----------
-    table : DataFrame
-        summary.csv: one row per landed run and criterion (build, engine, law, geometry,
-        criterion, case, run, K, err_T, err_A, err_eps).
-    not_available : DataFrame or iterable of dict
-        The plans' ``not_available`` cells; those of law 'default' become 'n/a' rows.
-    builds : sequence of str, optional
-        The build ids in config order.
-
-    Returns
-    -------
-    DataFrame, sorted by build (config order) and geometry, with columns build, engine,
-    geometry, criterion (the one its default law stands for), status ('compared' or 'n/a'),
-    worst_error (the signed relative error of largest magnitude over T, A and eps, every case
-    and K), worst_quantity, case, at_K, at_run (where it occurs), reason (why n/a; '').
-    """
-    columns = ["build", "engine", "geometry", "criterion", "status", "worst_error", "worst_quantity", "case",
-               "at_K", "at_run", "reason"]
-    rows = []
-    d = with_build(table)
-    d = d[d.law == "default"] if len(d) else d
-    for (build, geometry), group in (d.groupby(["build", "geometry"], sort=False) if len(d) else ()):
-        errors = group[[f"err_{q}" for q in GATED_QUANTITIES]].to_numpy(dtype=float)
-        if np.isnan(errors).all():
-            i, j, value = 0, 0, math.nan
-        else:
-            i, j = np.unravel_index(np.nanargmax(np.abs(errors)), errors.shape)
-            value = float(errors[i, j])
-        r = group.iloc[int(i)]
-        rows.append({"build": build, "engine": r.engine, "geometry": geometry, "criterion": r.criterion,
-                     "status": "compared", "worst_error": value,
-                     "worst_quantity": "" if math.isnan(value) else GATED_QUANTITIES[int(j)],
-                     "case": str(r.case), "at_K": float(r.K), "at_run": str(r.run) if "run" in group else "",
-                     "reason": ""})
-    na = _records(not_available)
-    if len(na):
-        na = with_build(na)
-        na = na[na.law == "default"].drop_duplicates(["build", "geometry"])
-        rows += [{"build": r.build, "engine": r.engine, "geometry": r.geometry, "criterion": "", "status": "n/a",
-                  "worst_error": math.nan, "worst_quantity": "", "case": "", "at_K": math.nan, "at_run": "",
-                  "reason": str(r.reason)} for r in na.itertuples()]
-    out = pd.DataFrame(rows, columns=columns)
-    if not len(out):
-        return out
-    keys = np.lexsort((_rank(out.geometry, GEOMETRIES), _rank(out.build, build_order(builds, out))))
-    return out.iloc[keys].reset_index(drop=True)
-
-
-def _default_text(cell) -> str:
-    if cell["status"] == "n/a":
-        return "n/a"
-    if math.isnan(cell["worst_error"]):
-        return "no result"
-    return f"{cell['worst_quantity']} {cell['worst_error']:+.1%} ({cell['criterion']})"
-
-
-def _default_title(cell) -> str:
-    if cell["status"] == "n/a":
-        return f"not available in {cell['engine']}: {cell['reason']}"
-    return (f"largest relative error, {cell['worst_quantity']}: {cell['worst_error']:+.3e} at K = {cell['at_K']:.4g}, "
-            f"case {cell['case']}" + (f", run {cell['at_run']}" if cell["at_run"] else "") + "; compared, not gated")
-
-
-def default_matrix_markdown(cells: pd.DataFrame) -> list[str]:
-    """The default-law matrix as Markdown: one row per build, one column per geometry, each
-    cell the quantity and signed relative error of largest magnitude, with the criterion."""
-    if not len(cells):
-        return []
-    geometries = [g for g in GEOMETRIES if g in set(cells.geometry)]
-    by_key = {(r.build, r.geometry): r._asdict() for r in cells.itertuples()}
-    lines = ["| build | " + " | ".join(f"**{g}**" for g in geometries) + " |", "|---|" + ":---:|" * len(geometries)]
-    for b in pd.unique(cells.build):
-        lines.append(f"| **{b}** | " + " | ".join(_default_text(by_key[(b, g)]) if (b, g) in by_key else "–"
-                                                   for g in geometries) + " |")
-    reasons = cells[cells.status == "n/a"].drop_duplicates(["engine", "reason"])
-    lines += [""] + [f"n/a in {r.engine}: {md_text(r.reason)}" for r in reasons.itertuples()]
-    return lines + [""] if len(reasons) else lines
-
-
-def default_matrix_html(cells: pd.DataFrame) -> str:
-    """The default-law matrix as an HTML table (class 'matrix default'); cells of class
-    'compared' or 'na', each with a hover title."""
-    if not len(cells):
-        return ""
-    geometries = [g for g in GEOMETRIES if g in set(cells.geometry)]
-    by_key = {(r.build, r.geometry): r._asdict() for r in cells.itertuples()}
-    head = '<tr><th class="build">build</th>' + "".join(f'<th class="geometry">{escape(g)}</th>' for g in geometries)
-    body = []
-    for b in pd.unique(cells.build):
-        tds = []
-        for g in geometries:
-            cell = by_key.get((b, g))
-            if cell is None:
-                tds.append('<td class="none" title="no run of this build">–</td>')
-                continue
-            css = "na" if cell["status"] == "n/a" else "compared"
-            tds.append(f'<td class="{css}" title="{escape(_default_title(cell), quote=True)}">'
-                       f"{escape(_default_text(cell))}</td>")
-        body.append(f'<tr><th scope="row" class="build">{escape(str(b))}</th>{"".join(tds)}</tr>')
-    return ('<table class="matrix default">\n<thead>' + head + "</tr></thead>\n<tbody>\n" + "\n".join(body)
-            + "\n</tbody>\n</table>")

@@ -157,31 +157,6 @@ def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -
     plt.close(fig)
 
 
-def plot_default_laws(table: pd.DataFrame, path: Path, curve, builds=None) -> None:
-    """The out-of-the-box laws against the viscoelastic reference: eps, T/T_e and A/A_e against
-    K; builds as in `plot_ratios` (each under the criterion its default stands for)."""
-    runs = table[table.law == "default"]
-    present = _builds(runs, builds)
-    styles = build_styles(build_order(builds, table))
-    K = np.asarray(curve.K)
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    for ax, q in zip(axes, ("eps", "T", "A")):
-        name = RATIO[q][0]
-        for criterion, ls in (("x0", "-"), ("F0", "-.")):
-            ax.plot(K, hertz_ratios(curve, criterion)[name], "k", ls=ls, lw=1,
-                    label=f"viscoelastic reference, {criterion}")
-        _plot_build_ratios(ax, runs, q, present, styles)
-        ax.set_xlabel("K of the viscoelastic model at that velocity")
-        ax.set_title(name)
-        ax.grid(alpha=0.3)
-    criteria = runs.groupby("build").criterion.first()
-    _legend(axes[0], styles, present, {b: f"{b} default ({criteria[b]})" for b in present})
-    fig.suptitle("Out-of-the-box laws (restitution matched once) against the viscoelastic model")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
 def start_drawing(plots, workers: int = 1):
     """Draw `plots` ((function, args), ...) in up to `workers` forked processes, or in turn, here,
     when workers is 1; returns the function that waits for them (raising a plot's failure). The

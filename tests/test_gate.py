@@ -31,11 +31,10 @@ def plan(*ladders):
 
 
 def rows(name, engine="lammps", law="viscoelastic", geometry="sphere-sphere", K=0.1, res=1e-7, problem="", **err):
-    """A ladder's limit rows (dt = 0, one per criterion), errors err_q and resolution `res`; the
-    default law's rows are a run's (dt > 0)."""
+    """A ladder's limit rows (dt = 0, one per criterion), errors err_q and resolution `res`."""
     criteria = {"viscoelastic": ["x0", "F0"], "viscoelastic_clipped": ["F0"], "default": ["x0"]}[law]
     return [{"case": "steel", "run": name, "ladder": name, "engine": engine, "engine_version": "v", "law": law,
-             "geometry": geometry, "criterion": c, "K": K, "dt": 0.0 if law != "default" else 1e-6,
+             "geometry": geometry, "criterion": c, "K": K, "dt": 0.0,
              "err_T": err.get("T", 1e-8), "err_A": err.get("A", 2e-8), "err_eps": err.get("eps", -3e-9),
              "resolution_T": res, "resolution_A": res, "resolution_eps": res, "problem": problem} for c in criteria]
 
@@ -44,16 +43,19 @@ def no_failures():
     return pd.DataFrame(columns=["run", "problem", "log"])
 
 
-def test_all_within_tolerance_passes_and_default_law_is_not_gated():
+def test_an_engines_keyword_is_gated_against_its_own_equation_like_the_model():
+    """The law 'default' (each code's restitution keyword) is gated: its errors are against its own
+    equation, and one off by 0.5 in T fails its check as the model's laws do."""
     table = pd.DataFrame(rows("a") + rows("b", K=0.2) + rows("d", law="default", T=0.5))
     checks = gate_checks(table, plan(("a", "lammps", "viscoelastic", "sphere-sphere"),
                                      ("b", "lammps", "viscoelastic", "sphere-sphere"),
                                      ("d", "lammps", "default", "sphere-sphere")), no_failures(), TOL)
-    assert len(checks) == 2 * 3  # x0 and F0, times T, A, eps; the default law makes none
-    assert checks["pass"].all()
-    assert set(checks.law) == {"viscoelastic"}
+    assert len(checks) == 3 * 3  # viscoelastic x0 and F0, the keyword's x0 (LAMMPS keeps the tail); x T, A, eps
+    assert set(checks.law) == {"viscoelastic", "default"}
+    failing = checks[~checks["pass"]]
+    assert list(zip(failing.law, failing.quantity)) == [("default", "T")]
     v = verdict_of(checks, "sha", TOL)
-    assert v["verdict"] == "PASS" and v["checked"] == 6 and v["failed"] == 0 and v["failures"] == []
+    assert v["verdict"] == "FAIL" and v["checked"] == 9 and v["failed"] == 1
 
 
 def test_worst_ladder_decides_and_the_boundary_counts_the_resolution():
@@ -189,7 +191,7 @@ def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
     write_report(ReportInputs(table, checks, verdict, failed_runs=failed_runs), tmp_path)
     text = (tmp_path / "report.md").read_text()
     first = [line for line in text.splitlines() if line.strip()][1]
-    assert first.startswith("**Verdict: FAIL** — 4 of 6 gated checks")
+    assert first.startswith("**Verdict: FAIL** — 4 of 9 gated checks")  # the keyword's 3 fail: its run failed
     for f in verdict["failures"]:
         assert f"- {f}" in text
     assert "| lammps | default | d | unreadable engine record \\| x | runs/lammps.log |" in text

@@ -6,6 +6,7 @@ from pathlib import Path
 import pytest
 
 from contact_model import CaseError, load_case
+from contact_model.keywords import keyword_reference
 from engines.plan import ROUNDOFF_LIMIT, PlanError, ladder_roundoff, plan_runs, rungs_of
 from engines.run_spec import RunSpec
 
@@ -111,12 +112,15 @@ def test_plan_listing_hands_on_runs_and_their_reference_and_refuses_a_stale_plan
     monkeypatch.setattr("engines.run_spec.solve_collision", lambda K: pytest.fail("solved again"))
     runs = runs_from_listing(case, listing, "yade")
     assert [r.name for r in runs] == [e["name"] for e in listing["runs"] if e["engine"] == "yade"]
-    # geometries x K x rungs of the laws (viscoelastic 4, clipped 4, elastic 3, default 1)
-    assert len(runs) == 2 * 2 * (4 + 4 + 3 + 1)
+    # geometries x K x rungs of the laws (viscoelastic 4, clipped 4, elastic 3, the keyword 4)
+    assert len(runs) == 2 * 2 * (4 + 4 + 3 + 4)
     assert {e["ladder"] for e in listing["runs"] if e["engine"] == "yade"} == {r.ladder for r in runs}
     for r in runs:
         assert r.steps() == next(e["steps"] for e in listing["runs"] if e["name"] == r.name)
-        assert r.reference == plan_module.solve_collisions([r.K]).row(0)  # the plan's batch, bit for bit
+        if r.law == "default":  # YADE's en: its own equation's row, at the b its code computes from e
+            assert r.reference == keyword_reference("yade:en", r.matched_restitution, r.K)
+        else:
+            assert r.reference == plan_module.solve_collisions([r.K]).row(0)  # the plan's batch, bit for bit
     # An engine job rebuilds the same runs from the listing alone (no case file parsed, no pint).
     alone = runs_from_listing(None, listing, "yade")
     assert [r.name for r in alone] == [r.name for r in runs] and [r.pair for r in alone] == [r.pair for r in runs]
@@ -171,7 +175,8 @@ def test_a_case_of_restitutions_is_planned_once_per_restitution_with_its_own_eta
         by_law.setdefault(run.law, []).append(run)
     assert len({r.name for r in planned.runs}) == len(planned.runs)  # no run twice
     assert sorted({round(solve_collision(r.K)["eps_F0"], 9) for r in by_law["viscoelastic"]}) == [0.5, 0.8]
-    assert sorted(r.matched_restitution for r in by_law["default"]) == [0.5, 0.8]
+    assert sorted({r.matched_restitution for r in by_law["default"]}) == [0.5, 0.8]
+    assert len(by_law["default"]) == 2 * 4  # a ladder each
     assert len(by_law["elastic"]) == 3  # one ladder, whatever the restitutions
     assert len(planned.notes) == 2 and planned.notes[0].startswith("s: restitution 0.8 under F0 at V = 1 m/s: ")
     listing = plan_listing(case, planned)

@@ -22,7 +22,7 @@ def test_reference_handed_on_by_the_plan_agrees_with_the_old_solver():
     old = {float(K): row for K, row in json.loads(BASELINE.read_text())["reference"].items()}
     plan = plan_runs(load_case(ROOT / "cases" / "steel.yaml"), ["lammps"], K_grid=[0.01, 0.1, 0.2],
                      laws=["viscoelastic", "viscoelastic_clipped", "default"])
-    rows = {r.K: r.reference for r in plan.runs}
+    rows = {r.K: r.reference for r in plan.runs if r.law != "default"}  # a keyword's row is its own equation's
     assert set(rows) == set(old)  # the same velocities, hence the same K to the last bit
     worst = 0.0
     for K, row in rows.items():

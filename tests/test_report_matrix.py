@@ -16,7 +16,7 @@ from test_comparison import exact_metrics, meta_for
 
 from postprocess.comparison import comparison_rows
 from postprocess.gate import gate_checks, verdict_of
-from postprocess.report_matrix import (cell_text, default_law_cells, error_matrix, matrix_cells, matrix_columns,
+from postprocess.report_matrix import (cell_text, error_matrix, matrix_cells, matrix_columns,
                                        matrix_html, matrix_markdown)
 
 TOL = {"T": 5e-4, "A": 5e-4, "eps": 5e-4}
@@ -44,7 +44,7 @@ def planned(rows):
 @pytest.fixture
 def study():
     """Three builds (two of one code); lammps-2025's T is 6e-4 off at K = 0.3 in the viscoelastic
-    sphere-plane runs (fails); YADE cannot run the clipped law; a default-law run (not gated)."""
+    sphere-plane runs (fails); YADE cannot run the clipped law."""
     rows = []
     for build in reversed(BUILDS):  # the summary's order is not the config's
         for geometry in ("sphere-sphere", "sphere-plane"):
@@ -55,7 +55,6 @@ def study():
             rows += summary_rows(f"{build}-el-{geometry}", build, "elastic", geometry, 0.0, T=1e-6, A=3e-7, eps=0.0)
             if build != "yade-2023":
                 rows += summary_rows(f"{build}-cl-{geometry}", build, "viscoelastic_clipped", geometry, 0.1, A=7e-5)
-            rows += summary_rows(f"{build}-def-{geometry}", build, "default", geometry, 0.2, eps=0.12, T=-0.03)
     table = pd.DataFrame(rows)
     checks = gate_checks(table, planned(rows), pd.DataFrame(columns=["run", "problem", "log"]), TOL)
     not_available = [{"build": "yade-2023", "engine": "yade", "law": "viscoelastic_clipped", "geometry": g,
@@ -76,7 +75,7 @@ def test_cells_worst_error_pass_fail_and_not_available(study):
     # Rows in config order, then law (gated laws' order), geometry, criterion.
     assert list(pd.unique(cells.build)) == BUILDS
     assert len(cells) == len(BUILDS) * 8  # viscoelastic 2 x 2, clipped 2 (F0), elastic 2 (x0)
-    assert set(cells.law) == {"viscoelastic", "viscoelastic_clipped", "elastic"}  # default is not gated
+    assert set(cells.law) == {"viscoelastic", "viscoelastic_clipped", "elastic"}
 
     bad = cell(cells, "lammps-2025", "viscoelastic", "sphere-plane", "x0")
     assert bad.status == "fail" and bad.failing == "T"
@@ -212,17 +211,32 @@ def test_html_table_rows_columns_classes_and_titles(study):
                                      "in run lammps-2021-ve-")
 
 
-def test_default_law_is_compared_in_its_own_matrix(study):
-    table, _, _ = study
-    na = [{"build": "yade-2023", "engine": "yade", "law": "default", "geometry": "sphere-plane", "reason": "none"}]
-    d = default_law_cells(table[~((table.build == "yade-2023") & (table.geometry == "sphere-plane")
-                                  & (table.law == "default"))], na, BUILDS)
-    assert list(d.build) == ["yade-2023", "yade-2023", "lammps-2021", "lammps-2021", "lammps-2025", "lammps-2025"]
-    lammps = d[(d.build == "lammps-2021") & (d.geometry == "sphere-sphere")].iloc[0]
-    assert lammps.status == "compared" and lammps.worst_quantity == "eps" and lammps.worst_error == pytest.approx(0.12)
-    assert lammps.criterion == "x0" and lammps.at_K == 0.2
-    yade_plane = d[(d.build == "yade-2023") & (d.geometry == "sphere-plane")].iloc[0]
-    assert yade_plane.status == "n/a" and yade_plane.reason == "none"
+def test_the_keywords_section_gives_each_keywords_own_equation_its_promise_and_the_model(tmp_path):
+    """A build's restitution keyword (law 'default'), told e = 0.904886 at K = 0.1: the report's
+    keyword table gives what its equation restitutes (LAMMPS tsuji: 0.931997, by the closed form),
+    the promise error, the engine's eps from its own-equation error, the viscoelastic model's eps,
+    and the keyword's known defect."""
+    from contact_model.keywords import promised_restitution
+    from postprocess.report import ReportInputs, write_report
+    from reference import solve_collision
+
+    rows = summary_rows("lammps-2021-def", "lammps-2021", "default", "sphere-sphere", 0.1, eps=2e-9)
+    for r in rows:
+        r["matched_restitution"] = 0.904886
+    table = pd.DataFrame(rows)
+    checks = gate_checks(table, planned(rows), pd.DataFrame(columns=["run", "problem", "log"]), TOL)
+    write_report(ReportInputs(table, checks, verdict_of(checks, "0" * 64, TOL), builds=["lammps-2021"]), tmp_path)
+    md = (tmp_path / "report.md").read_text()
+    section = md.split("## The engines' restitution keywords")[1].split("\n## ")[0]
+    own = promised_restitution("lammps:tsuji", 0.904886)
+    row = next(line for line in section.splitlines() if line.startswith("| steel | lammps-2021 |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[3] == "`lammps:tsuji`" and cells[4] == "x0" and float(cells[6]) == 0.904886
+    assert float(cells[7]) == pytest.approx(own, rel=1e-6) and float(cells[8]) == pytest.approx(own - 0.904886,
+                                                                                                rel=1e-5)
+    assert float(cells[10]) == pytest.approx(2e-9)
+    assert float(cells[11]) == pytest.approx(solve_collision(0.1)["eps_x0"], rel=1e-6)
+    assert "Known defect of `lammps:tsuji`" in section and "PR #5113" in section
 
 
 def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
@@ -235,15 +249,10 @@ def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
     md = (tmp_path / "report.md").read_text()
     assert "@@" not in md and "| **lammps-2025** |" in md and "[checks.csv](checks.csv)" in md
     assert f"1. yade: {NA_REASON}" in md and "a plane is a huge box" in md
-    drift = md.split("## Out-of-the-box laws")[1].split("`restitution` is")[1]
-    rows = [line.split("|")[1:3] for line in drift.splitlines() if line.startswith("| ") and "sphere-" in line]
-    assert [(b.strip(), g.strip()) for b, g in rows] == [(b, g) for b in BUILDS
-                                                         for g in ("sphere-sphere", "sphere-plane")]
     html = (tmp_path / "report.html").read_text()
     tables = parse_tables(html)
     matrices = [t for t in tables if t["class"] == "matrix"]
     assert len(matrices) == 1 and [r[0][2] for r in matrices[0]["rows"][3:]] == BUILDS
-    assert [t for t in tables if t["class"] == "matrix default"]
     assert 'href="checks.csv"' in html and NA_REASON in html
     assert (tmp_path / "plots" / "errors.png").stat().st_size > 0
 
@@ -264,8 +273,7 @@ def test_report_drawn_in_two_processes_is_the_same_report(study, tmp_path):
                             out, workers=workers)
         texts[workers] = [re.sub(r"Generated [^`]*UTC", "", (out / name).read_text())
                           for name in ("report.md", "report.html")]
-        assert sorted(p.name for p in (out / "plots").iterdir()) == ["default_laws.png", "errors.png", "ratios_F0.png",
-                                                                     "ratios_x0.png"]
+        assert sorted(p.name for p in (out / "plots").iterdir()) == ["errors.png", "ratios_F0.png", "ratios_x0.png"]
     assert texts[1] == texts[2]
     from postprocess.report_plots import plot_errors, start_drawing
 

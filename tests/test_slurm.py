@@ -246,6 +246,9 @@ def test_what_a_stopped_cluster_left_in_run_is_replaced_and_what_another_owns_is
 
         # slurmd's port taken by another process: refused before any daemon starts (it is checked last).
         with socket.socket() as taken:
+            # SO_REUSEADDR: the stopped slurmd's connections may linger in TIME_WAIT on 6818, which
+            # blocks a plain bind ('Address already in use') though nothing listens there any more.
+            taken.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
             taken.bind(("127.0.0.1", 6818))
             taken.listen()
             refused = cluster_script("up")

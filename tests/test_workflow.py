@@ -147,7 +147,7 @@ def test_one_case_for_real_then_only_changes_rerun(project):
     # header + engines x geometries x (4 rungs + the ladder's limit) x criteria
     assert len(summary) == 1 + 2 * 2 * (4 + 1) * 2
     assert (project / "logs" / "steel" / "liggghts.log").exists()
-    assert (project / "logs" / "benchmarks" / "steel" / "yade.tsv").exists()
+    assert (project / "logs" / "benchmarks" / "run_engine" / "steel" / "yade.tsv").exists()
     again = snakemake("-n", "steel", *args, cwd=project)
     assert "Nothing to be done" in again.stdout, again.stdout
     case = project / "cases" / "steel.yaml"
