@@ -52,6 +52,14 @@ if sweep and {mode!r} == "hog":  # 3 GiB, every page touched, held until killed
 if sweep and {mode!r} == "hold":  # waits while the file HOLD_FILE exists, then runs LAMMPS
     while os.path.exists(os.environ["HOLD_FILE"]):
         time.sleep(0.2)
+if sweep and {mode!r} == "scale-e":  # the keyword's restitution (LAMMPS tsuji, LIGGGHTS's) x (1 + 1e-4) in the deck
+    import re
+    script = args[args.index("-in") + 1]
+    text = open(script).read()
+    scale = lambda m: m.group(1) + repr(float(m.group(2)) * (1 + 1e-4)) + m.group(3)
+    text = re.sub(r"(hertz/material \\S+ )(\\S+)( 0\\.0 damping tsuji)", scale, text)
+    text = re.sub(r'(variable restitution index ")([^"]+)(")', scale, text)
+    open(script, "w").write(text)
 rc = subprocess.call([{real!r}, *args])
 for raw in glob.glob("*.lammps.txt") if sweep else []:
     if "slow" in {mode!r} and "-viscoelastic" in raw:
@@ -72,15 +80,15 @@ def project(tmp_path):
     return copy_workflow(tmp_path / "study", CASE)
 
 
-def faulty_lammps(tmp_path, mode) -> dict:
+def faulty_lammps(tmp_path, mode, name="lmp") -> dict:
     """The environment with a wrapper `lmp` first on PATH. Modes: slow (the viscoelastic runs'
     collisions 1 % slower: times x 1.01, velocities / 1.01), drop-default (the out-of-the-box
     records deleted), both joined by '+', crash (exit 139 at once), hang (sleep 600 s before
     running), hog (take 3 GiB and hold it), hold (wait while the file $HOLD_FILE exists)."""
-    real = shutil.which("lmp")
+    real = shutil.which(name)
     bin_dir = tmp_path / f"bin-{mode}"
     bin_dir.mkdir()
-    wrapper = bin_dir / "lmp"
+    wrapper = bin_dir / name
     wrapper.write_text(WRAPPER.format(python=sys.executable, mode=mode, real=real))
     wrapper.chmod(0o755)
     return {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}"}
@@ -156,32 +164,50 @@ def test_a_case_of_restitutions_runs_each_at_its_own_viscosity_and_passes(projec
     limits = summary[(summary.law == "viscoelastic") & (summary.dt == 0) & (summary.criterion == "F0")]
     assert sorted(limits.eps_ref.round(9)) == [0.5, 0.8] and (limits.err_eps.abs() < 1e-6).all()
     plan = json.loads((project / "results" / "steel" / "plan.json").read_text())
-    assert sorted(r["matched_restitution"] for r in plan["runs"] if r["law"] == "default") == [0.5, 0.8]
-    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
+    assert sorted({r["matched_restitution"] for r in plan["runs"] if r["law"] == "default"}) == [0.5, 0.8]
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 9 ")  # the keyword's x0 too
+
+
+@pytest.mark.parametrize("code, executable", [("lammps", "lmp"), ("liggghts", "liggghts")])
+def test_a_keyword_told_a_restitution_1e_4_off_fails_its_own_checks(project, tmp_path, code, executable):
+    """LAMMPS's tsuji and LIGGGHTS's coefficientRestitution with the e of the generated deck scaled by
+    (1 + 1e-4): the keyword's checks against its own equation fail, named; the viscoelastic law's pass."""
+    require_engine(executable, code)
+    out = study(project, f"builds=[{{id: {code}, code: {code}, executable: {executable}}}]",
+                env=faulty_lammps(tmp_path, "scale-e", executable))
+    assert out.returncode != 0
+    n, failing = junit(project)
+    assert n == 9  # viscoelastic x0, F0 and the keyword's x0, each T, A, eps
+    assert f"{code}.default.sphere-sphere.x0.eps" in failing
+    assert not any(".viscoelastic." in f for f in failing)
+    assert f"{code} default sphere-sphere x0 eps: " in out.stdout + out.stderr
 
 
 def test_too_tight_tolerance_fails_and_no_earlier_pass_survives(project):
     ok = study(project)
     assert ok.returncode == 0, ok.stderr[-3000:]
-    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 9 ")
     # Tolerances through --config arrive as strings in a mapping: accepted as numbers. 1e-8 is below
-    # the ladders' resolution (~1e-7): T and A cannot be judged at it, and their checks fail.
+    # the ladders' resolution (~1e-7): T and A cannot be judged at it, and their checks fail (the
+    # model's and LAMMPS's tsuji keyword's).
     tight = study(project, "tolerance={T: 1e-8, A: 1.0e-8, eps: 1e-6}")
     assert tight.returncode != 0
     assert not (project / "results" / "gate.txt").exists()
     head = report_head(project)
-    assert "**Verdict: FAIL** — 2 of 6 gated checks" in head
+    assert "**Verdict: FAIL** — 3 of 9 gated checks" in head
     assert "not resolved at this tolerance" in head
-    expected = {f"lammps.viscoelastic.sphere-sphere.{c}.{q}" for c in ("x0", "F0") for q in ("T", "A")}
-    assert junit(project) == (6, expected)
+    expected = ({f"lammps.viscoelastic.sphere-sphere.{c}.{q}" for c in ("x0", "F0") for q in ("T", "A")}
+                | {f"lammps.default.sphere-sphere.x0.{q}" for q in ("T", "A")})
+    assert junit(project) == (9, expected)
     for name in expected:
-        line = "lammps viscoelastic sphere-sphere " + name.split("sphere-sphere.")[1].replace(".", " ")
+        law, rest = name.split(".", 2)[1:]
+        line = f"lammps {law} " + rest.replace(".", " ")
         assert f"- {line}: " in head and line in tight.stdout + tight.stderr
     verdict = json.loads((project / "results" / "verdict.json").read_text())
-    assert verdict["verdict"] == "FAIL" and verdict["failed"] == 4 and verdict["tolerance"]["T"] == 1e-8
+    assert verdict["verdict"] == "FAIL" and verdict["failed"] == 6 and verdict["tolerance"]["T"] == 1e-8
 
 
-def test_engine_one_percent_slow_fails_its_time_and_restitution_checks_and_a_failed_default_run_is_not_gated(
+def test_engine_one_percent_slow_fails_its_time_and_restitution_checks_and_a_keyword_with_no_record_fails_its_own(
         project, tmp_path):
     out = study(project, env=faulty_lammps(tmp_path, "slow+drop-default"))
     assert out.returncode != 0
@@ -192,25 +218,27 @@ def test_engine_one_percent_slow_fails_its_time_and_restitution_checks_and_a_fai
     assert len(gated) == 2 and gated.err_T.to_numpy() == pytest.approx(0.01, abs=1e-7)
     assert gated.err_eps.to_numpy() == pytest.approx(1 / 1.01 - 1, abs=1e-7)
     assert (gated.err_A.abs() < 1e-7).all() and (gated.problem.isna() | (gated.problem == "")).all()
-    # The T and eps checks fail, A passes: the out-of-the-box run that failed is reported, never gated.
-    assert junit(project) == (6, {f"lammps.viscoelastic.sphere-sphere.{c}.{q}" for c in ("x0", "F0")
-                                  for q in ("T", "eps")})
-    assert "**Verdict: FAIL** — 2 of 6 gated checks" in report_head(project)
+    # The T and eps checks fail, A passes; the keyword's runs left no record: its checks fail, naming them.
+    keyword = {f"lammps.default.sphere-sphere.x0.{q}" for q in ("T", "A", "eps")}
+    assert junit(project) == (9, {f"lammps.viscoelastic.sphere-sphere.{c}.{q}" for c in ("x0", "F0")
+                                  for q in ("T", "eps")} | keyword)
+    assert "**Verdict: FAIL** — 2 of 9 gated checks" in report_head(project)
     assert "lammps viscoelastic sphere-sphere x0 T: 1.000e-02 > 1e-06" in out.stdout + out.stderr
     report = (project / "results" / "report.md").read_text()
     section = report.split("## Runs not made or not completed")[1]
     assert "| steel | lammps | default | lammps-default-sphere-sphere-K0.1-" in section
     assert "unreadable engine record" in section
-    assert "default" not in "".join(json.loads((project / "results" / "verdict.json").read_text())["failures"])
+    failures = "".join(json.loads((project / "results" / "verdict.json").read_text())["failures"])
+    assert "lammps default sphere-sphere x0 T: " in failures and "unreadable engine record" in failures
 
 
 def test_crashed_engine_fails_every_check_naming_the_run(project, tmp_path):
     out = study(project, env=faulty_lammps(tmp_path, "crash"))
     assert out.returncode != 0
     n, failing = junit(project)
-    assert n == 6 and len(failing) == 6
+    assert n == 9 and len(failing) == 9
     head = report_head(project)
-    assert "**Verdict: FAIL** — 0 of 6 gated checks" in head
+    assert "**Verdict: FAIL** — 0 of 9 gated checks" in head
     assert "1 of 1 ladders have a failed run; first: lammps-viscoelastic-sphere-sphere-K0.1-" in head
     assert "139" in head and "1 of 1 ladders have a failed run" in out.stdout + out.stderr
     # The runs the engine did not complete: one table row per run, its log's last lines in a
@@ -218,13 +246,13 @@ def test_crashed_engine_fails_every_check_naming_the_run(project, tmp_path):
     report = (project / "results" / "report.md").read_text()
     section = report.split("Runs the engine did not complete")[1].split("\n## ")[0]
     table = [line for line in section.splitlines() if line.startswith("|")]
-    runs = table[2:]  # the crashed rung, the ladder's three others and the default run, not run after it
-    assert len(runs) == 5 and all(line.count(" | ") == 5 for line in runs), table
+    runs = table[2:]  # the crashed rung, the ladder's three others and the keyword's four, not run after it
+    assert len(runs) == 8 and all(line.count(" | ") == 5 for line in runs), table
     assert "\\|" not in section
     assert section.count("<details><summary>") == 1 and "<pre>(the log is empty)</pre>" in section
     page = (project / "results" / "report.html").read_text()
     html_section = page.split("Runs the engine did not complete")[1].split("<h2")[0]
-    assert html_section.count("<tr>") == 6 and html_section.count("<details>") == 1  # the header and five runs
+    assert html_section.count("<tr>") == 9 and html_section.count("<details>") == 1  # the header and eight runs
 
 
 def test_hung_engine_is_stopped_and_fails_every_check(project, tmp_path):
@@ -233,9 +261,9 @@ def test_hung_engine_is_stopped_and_fails_every_check(project, tmp_path):
     assert out.returncode != 0
     assert time.monotonic() - started < 100  # the wrapper would sleep 600 s; the limit here is ~11 s
     n, failing = junit(project)
-    assert n == 6 and len(failing) == 6
+    assert n == 9 and len(failing) == 9
     head = report_head(project)
-    assert "**Verdict: FAIL** — 0 of 6 gated checks" in head and "did not finish within" in head
+    assert "**Verdict: FAIL** — 0 of 9 gated checks" in head and "did not finish within" in head
 
 
 def test_copied_results_read_their_own_dumps_and_an_edited_dump_is_refused(project, tmp_path):
@@ -310,7 +338,7 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
     assert unlock.returncode == 0, unlock.stderr
     again = study(project, extra=["--rerun-incomplete"])
     assert again.returncode == 0, again.stderr[-3000:]
-    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 6 ")
+    assert (project / "results" / "gate.txt").read_text().startswith("PASS: 9 ")
 
 
 def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tmp_path):
@@ -369,11 +397,11 @@ def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tm
     again = subprocess.run(command.replace("snakemake", f"{sys.executable} -m snakemake", 1), shell=True,
                            cwd=project, capture_output=True, text=True, timeout=600)
     assert again.returncode == 0, again.stderr[-3000:]
-    assert (results / "steel" / "gate.txt").read_text().startswith("PASS: 6 ")
+    assert (results / "steel" / "gate.txt").read_text().startswith("PASS: 9 ")
     assert json.loads((results / "verdict.json").read_text())["verdict"] == "STALE"  # a case target leaves it so
     whole = study(project)
     assert whole.returncode == 0, whole.stderr[-3000:]
-    assert (results / "gate.txt").read_text().startswith("PASS: 6 ")
+    assert (results / "gate.txt").read_text().startswith("PASS: 9 ")
     assert "STALE" not in (results / "report.md").read_text()
 
 
