@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from contact_model.constant_restitution import (LAMMPS_B_PER_ALPHA, LIGGGHTS_B_PER_BETA, damping_for_restitution,
-                                                lammps_tsuji_alpha, restitution_of_damping)
+from contact_model.constant_restitution import damping_for_restitution, restitution_of_damping
+from contact_model.keywords import KEYWORDS
 
 
 def test_no_damping_is_elastic():
@@ -16,8 +16,7 @@ def test_no_damping_is_elastic():
 
 @pytest.mark.parametrize("e", [0.6, 0.8, 0.95])
 def test_liggghts_hertz_restitution_is_its_input_under_x0(e):
-    beta = -math.log(e) / math.sqrt(math.log(e) ** 2 + math.pi**2)
-    b = LIGGGHTS_B_PER_BETA * beta
+    b = KEYWORDS["liggghts:hertz-coefficientRestitution"].b(e)  # 2.5 |ln e| / sqrt(ln^2 e + pi^2)
     assert restitution_of_damping(b, "x0") == pytest.approx(e, abs=1e-9)
     # Clipping the attractive tail makes the bodies leave faster.
     assert restitution_of_damping(b, "F0") > e + 1e-4
@@ -45,7 +44,7 @@ def test_lammps_tsuji_restitutes_more_than_told_for_want_of_sqrt2(e, without, wi
     """LAMMPS's alpha(e) is Tsuji's fit for the particle mass (2 M* for equal spheres) applied to M*:
     told e it restitutes `without` (x0); with the sqrt(2) of LAMMPS's development branch it
     restitutes e to within the polynomial fit's own error (<= 1.1e-3, 3e-4 at the study's e)."""
-    b = LAMMPS_B_PER_ALPHA * lammps_tsuji_alpha(e)
+    b = KEYWORDS["lammps:tsuji"].b(e)  # sqrt(5/4) alpha(e)
     assert restitution_of_damping(b, "x0") == pytest.approx(without, abs=2e-6)
     assert restitution_of_damping(math.sqrt(2) * b, "x0") == pytest.approx(with_sqrt2, abs=2e-6)
     assert abs(with_sqrt2 - e) < 1.2e-3 < without - e

