@@ -32,7 +32,7 @@ from pathlib import Path
 from engines.engine_process import log_tail
 from records.files import write_atomically
 
-from .verdict_files import SUITE, backdate, is_stale, mark_stale
+from .verdict_files import SUITE, backdate, is_stale, junit_suite, mark_stale
 #: How long `sacct` may take for one job before its account is left out [s].
 SACCT_TIMEOUT_S = 30
 #: Lines of a local job's log quoted with its failure.
@@ -257,13 +257,7 @@ def _merge_verdict(path: Path, failures: list[dict]) -> None:
 
 
 def _merge_junit(path: Path, failures: list[dict]) -> None:
-    try:
-        root = ET.parse(path).getroot()
-    except (OSError, ET.ParseError):
-        root = ET.Element("testsuites", name=SUITE, tests="0", failures="0", errors="0", skipped="0")
-    suite = root.find("testsuite")
-    if suite is None:
-        suite = ET.SubElement(root, "testsuite", name=SUITE, tests="0", failures="0", errors="0", skipped="0")
+    root, suite = junit_suite(path)
     for f in failures:
         name = ", ".join(f"{k}={v}" for k, v in f["wildcards"].items()) or "job"
         case = ET.SubElement(suite, "testcase", classname=f"workflow.{f['rule']}", name=name, time="0")

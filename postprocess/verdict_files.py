@@ -142,7 +142,9 @@ def _html_stale(text: str, sentence: str) -> str:
     return text.replace("<body>", f"<body>{block}", 1) if "<body>" in text else block + text
 
 
-def _junit_stale(path: Path, sentence: str) -> None:
+def junit_suite(path: Path) -> tuple[ET.Element, ET.Element]:
+    """(root, the study's test suite) of the JUnit file `path`, or of a new empty one where it
+    cannot be read: the verdict files written outside their rules add their test cases to it."""
     try:
         root = ET.parse(path).getroot()
     except (OSError, ET.ParseError):
@@ -150,6 +152,11 @@ def _junit_stale(path: Path, sentence: str) -> None:
     suite = root.find("testsuite")
     if suite is None:
         suite = ET.SubElement(root, "testsuite", name=SUITE, tests="0", failures="0", errors="0", skipped="0")
+    return root, suite
+
+
+def _junit_stale(path: Path, sentence: str) -> None:
+    root, suite = junit_suite(path)
     old = suite.find("testcase[@classname='workflow'][@name='stale']")
     if old is None:
         case = ET.SubElement(suite, "testcase", classname="workflow", name="stale", time="0")

@@ -94,6 +94,23 @@ def faulty_lammps(tmp_path, mode, name="lmp") -> dict:
     return {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}"}
 
 
+def wait_for_the_hung_engine(pid_file: Path, proc) -> None:
+    """Until the 'hang' wrapper wrote its pid (the engine job is running), at most 300 s."""
+    deadline = time.monotonic() + 300
+    while not pid_file.exists() and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.2)
+    assert pid_file.exists(), "the engine job never started"
+
+
+def kill_the_hung_engine(pid_file: Path) -> None:
+    """SIGKILL the 'hang' wrapper, wherever the test ended (it would sleep 600 s)."""
+    for pid in [int(pid_file.read_text())] if pid_file.exists() else []:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
 def study(project, *config, env=None, target="all", extra=()):
     return subprocess.run([sys.executable, "-m", "snakemake", "-j2", target, *extra, "--config", *SMALL, *config],
                           cwd=project, capture_output=True, text=True, timeout=600, env=env)
@@ -310,18 +327,11 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     pid_file = project / "results" / "steel" / "lammps" / "runs" / "hang.pid"
     try:
-        deadline = time.monotonic() + 300
-        while not pid_file.exists() and time.monotonic() < deadline and proc.poll() is None:
-            time.sleep(0.2)
-        assert pid_file.exists(), "the engine job never started"
+        wait_for_the_hung_engine(pid_file, proc)
         os.killpg(proc.pid, signal.SIGKILL)  # kill -9 the workflow mid-run
         proc.wait(timeout=30)
     finally:
-        for pid in [int(pid_file.read_text())] if pid_file.exists() else []:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
+        kill_the_hung_engine(pid_file)
     # Nothing says PASS: the gate's stamp is gone, the verdict says STALE, the reports open with it.
     assert verdict_files(project) == ["junit.xml", "report.html", "report.md", "verdict.json"]
     assert json.loads((project / "results" / "verdict.json").read_text())["verdict"] == "STALE"
@@ -355,19 +365,12 @@ def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tm
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     pid_file = results / "steel" / "lammps" / "runs" / "hang.pid"
     try:
-        deadline = time.monotonic() + 300
-        while not pid_file.exists() and time.monotonic() < deadline and proc.poll() is None:
-            time.sleep(0.2)
-        assert pid_file.exists(), "the engine job never started"
+        wait_for_the_hung_engine(pid_file, proc)
         hung = int(pid_file.read_text())
         os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C in the terminal does
         said, _ = proc.communicate(timeout=120)
     finally:
-        for pid in [int(pid_file.read_text())] if pid_file.exists() else []:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
+        kill_the_hung_engine(pid_file)
     assert proc.returncode != 0
     command = ("snakemake -j2 steel --forcerun run_engine --config " + " ".join(f"'{c}'" if " " in c or "[" in c
                                                                                  else c for c in SMALL)
