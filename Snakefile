@@ -4,6 +4,7 @@
     snakemake -j2 steel               one case (its file name in cases/ without .yaml) and its own gate
     snakemake -j2 results/steel/summary.csv
     snakemake -j2 calibration         eta fitted to every case with measurements (results/calibration/)
+    snakemake -j2 keywords            each build's restitution keyword over e: its promise (results/keywords/)
 
 Settings: config/config.yaml (validated against config/config.schema.yaml). Logs: logs/,
 benchmarks: logs/benchmarks/<case>/<build>.tsv, results: results/. The rules live in
@@ -99,12 +100,14 @@ include: "workflow/rules/regressions.smk"
 include: "workflow/rules/paper.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/compare.smk"
+include: "workflow/rules/keywords.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used. Every other
 # rule's job is a SLURM job of its own there (profiles/slurm), with its cluster_resources.
 localrules: all, plan, summary, lammps_regressions, reference_tables, checks, report, gate, case_verdict, case_gate, calibration,
             calibration_report,
-            compare, compare_studies, compare_gate, compare_builds, convergence_summary, paper_figure_3, paper_figure_4
+            compare, compare_studies, compare_gate, compare_builds, convergence_summary, paper_figure_3, paper_figure_4,
+            keywords, keywords_summary
 
 # The rules whose failure is a verdict: a gate exits non-zero on FAIL, after writing it.
 VERDICT_RULES = ("gate", "case_gate", "compare_gate")

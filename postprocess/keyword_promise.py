@@ -1,0 +1,107 @@
+"""What each engine's restitution keyword delivers against what it is told: the promise table.
+
+For one build, its keyword (`engines.codes` ``keyword``, `contact_model.keywords`) is told each e of
+a grid; each e runs a ladder (the study's dissipative rungs, aligned to the end its force allows)
+whose limit dt -> 0 (`engines.ladder.extrapolate`, the x^{1/4} law's powers) is what the engine
+delivers. Beside it: what the keyword's own equation restitutes (the closed form,
+`reference.quarter_power_damping`), the engine's error against it (its conformance, which the
+study's gate judges) and the promise error, delivered - requested.
+
+Columns of `promise_rows` (results/keywords/promise.csv): code, build, keyword, e_requested, V,
+criterion, eps_delivered, eps_own_equation, err_own_equation, err_promise, resolution, problem.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from engines.ladder import RESOLUTION_FLOOR, extrapolate, powers_of
+
+COLUMNS = ["code", "build", "keyword", "e_requested", "V", "criterion", "eps_delivered", "eps_own_equation",
+           "err_own_equation", "err_promise", "resolution", "problem"]
+#: The requested e at which the summary quotes each keyword's promise error.
+QUOTED = (0.5, 0.8, 0.95)
+
+
+def promise_rows(build: str, code: str, keyword, rungs_by_e: dict, metrics: dict, failures: dict) -> list[dict]:
+    """One row per requested e.
+
+    Parameters
+    ----------
+    build, code : str
+        The build's id and its engine code.
+    keyword : contact_model.keywords.Keyword
+        The keyword its runs are of.
+    rungs_by_e : dict
+        {e: [RunSpec, ...]}: each e's ladder, every rung carrying its reference row (the
+        keyword's own equation, `contact_model.keywords.keyword_reference`).
+    metrics : dict
+        {run name: records.collision_metrics.CollisionMetrics} of the runs that landed.
+    failures : dict
+        {run name: why it failed} of the others.
+    """
+    end = keyword.criterion
+    rows = []
+    for e, rungs in rungs_by_e.items():
+        row = rungs[0].reference
+        eps_own = row["eps_x0"] if end == "x0" else row["eps_F0"]
+        out = {"code": code, "build": build, "keyword": keyword.name, "e_requested": e, "V": rungs[0].velocity,
+               "criterion": end, "eps_own_equation": eps_own, "problem": ""}
+        failed = [f"{r.name}: {failures[r.name]}" for r in rungs if r.name in failures or r.name not in metrics]
+        if failed:
+            rows.append({**out, "eps_delivered": math.nan, "err_own_equation": math.nan, "err_promise": math.nan,
+                         "resolution": math.nan, "problem": failed[0].splitlines()[0]})
+            continue
+        h = [r.time_step / r.scales["T_e"] for r in rungs]
+        y = [(metrics[r.name].eps_x0 if end == "x0" else metrics[r.name].eps_F0) / eps_own - 1 for r in rungs]
+        limit = extrapolate(h, y, powers_of(rungs[0].pair.eta, "default"))
+        delivered = eps_own * (1 + limit.value)
+        rows.append({**out, "eps_delivered": delivered, "err_own_equation": limit.value,
+                     "err_promise": delivered - e, "resolution": max(limit.estimate, RESOLUTION_FLOOR)})
+    return rows
+
+
+def promise_summary(table: pd.DataFrame) -> pd.DataFrame:
+    """Per build: its keyword, the largest |promise error| and the e where it occurs, and the
+    promise error at each e of QUOTED (NaN where that e was not run)."""
+    rows = []
+    for build, g in table.groupby("build", sort=False):
+        g = g.dropna(subset=["err_promise"])
+        if not len(g):
+            continue
+        worst = g.loc[g.err_promise.abs().idxmax()]
+        row = {"build": build, "keyword": worst.keyword, "criterion": worst.criterion,
+               "largest promise error": worst.err_promise, "at e": worst.e_requested,
+               "largest |error vs its equation|": g.err_own_equation.abs().max()}
+        for e in QUOTED:
+            at = g[np.isclose(g.e_requested, e)]
+            row[f"error at e = {e:g}"] = float(at.err_promise.iloc[0]) if len(at) else math.nan
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def plot_promise(table: pd.DataFrame, path) -> None:
+    """eps delivered - e requested against e, one line per build (its keyword), on one figure."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 5))
+    markers = "osD^v<>ph"
+    for k, (build, g) in enumerate(table.groupby("build", sort=False)):
+        g = g.sort_values("e_requested")
+        ax.plot(g.e_requested, g.err_promise, marker=markers[k % len(markers)], mfc="none",
+                label=f"{build}: {g.keyword.iloc[0]} ({g.criterion.iloc[0]})")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("e requested (what the keyword is told)")
+    ax.set_ylabel("eps delivered - e requested (dt -> 0)")
+    ax.set_title("The engines' restitution keywords: what they deliver against what they promise")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
