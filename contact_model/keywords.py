@@ -122,6 +122,14 @@ class Keyword:
     source: str
     documented: Callable[[float], float] | None = None
     known_defect: str = ""
+    accepts: tuple[float, float] = (0.0, 1.0)
+
+    def refuses(self, told: float) -> str:
+        """Why the code refuses the told value ('' when it takes it)."""
+        low, high = self.accepts
+        if low < told <= high:
+            return ""
+        return f"{self.code} refuses it: {self.told} must lie in ({low:g}, {high:g}]"
 
     @property
     def criterion(self) -> str:
@@ -145,7 +153,7 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
             "pair_style gran model hertz + fix property/global coefficientRestitution", "quarter", False, "e",
             lambda e: 2.5 * log_beta(e), "3.8.0",
             "src/normal_model_hertz.h:231-255, src/global_properties.cpp:539 @3.8.0 (limitForce off by default: "
-            "src/settings.h:237)"),
+            "src/settings.h:237; 0.05 < e <= 1 required: src/global_properties.cpp:488-489)", accepts=(0.05, 1.0)),
     Keyword("lammps:tsuji", "lammps", "pair_style granular hertz/material E e nu damping tsuji", "quarter", False,
             "e", lambda e: math.sqrt(1.25) * lammps_tsuji_alpha(e), "29 Sep 2021 ... 22 Jul 2025",
             "src/GRANULAR/pair_granular.cpp:369-370, 986-992 @stable_29Sep2021_update2; "

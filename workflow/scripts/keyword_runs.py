@@ -24,8 +24,11 @@ keyword = KEYWORDS[CODES[build.code].keyword]
 pair = load_case(snakemake.input.case).pair(k["geometry"])
 V = float(k["velocity"])
 K = pair.dissipation_parameter(V)
-rungs_by_e = {}
+rungs_by_e, refused = {}, {}
 for e in k["restitution"]:
+    if keyword.refuses(float(e)):  # not run: the engine would stop the whole sweep there
+        refused[float(e)] = keyword.refuses(float(e))
+        continue
     row = keyword_reference(keyword.name, float(e), K)
     rungs_by_e[float(e)] = [RunSpec("keywords", build.code, "default", pair, V, f, matched_restitution=float(e),
                                     build=build.id, reference=row)
@@ -41,5 +44,7 @@ for name, path in sweep.dumps.items():
                                       impact_velocity=meta["impact_velocity"])
 failures = {name: str(err) for name, err in sweep.failures.items()}
 rows = promise_rows(build.id, build.code, keyword, rungs_by_e, metrics, failures)
+rows += [{"code": build.code, "build": build.id, "keyword": keyword.name, "e_requested": e, "V": V,
+          "criterion": keyword.criterion, "problem": f"not run: {why}"} for e, why in refused.items()]
 pd.DataFrame(rows, columns=COLUMNS).to_csv(snakemake.output.rows, index=False, float_format="%.12g")
 log.info("%d runs landed, %d failed; engine process %.2f s", len(sweep.dumps), len(failures), sweep.engine_seconds)
