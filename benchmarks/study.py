@@ -43,6 +43,7 @@ from reference import HERTZ_TAU
 
 REPEATS = 3
 TARGETS = (("one material (steel)", ["steel"], "results/steel/*/manifest.json", 1.5),
+           ("keywords' promise table", ["keywords"], "results/keywords/*/manifest.json", 1.5),
            ("full study (all)", ["all"], "results/**/manifest.json", 1.05))
 
 

@@ -199,3 +199,40 @@ def test_case_the_engines_cannot_run_honestly_is_refused_before_any_job(project,
     assert out.returncode != 0
     assert f"cases/steel.yaml: field '{field}': " in told and said in told, told[-2000:]
     assert not (project / "results").exists()
+
+
+def test_the_keywords_target_tabulates_each_keywords_promise_against_an_independent_solution(tmp_path):
+    """snakemake -j2 keywords with LAMMPS and LIGGGHTS told e = 0.05, 0.5, 0.9: LAMMPS's tsuji delivers
+    what its own equation restitutes (checked against scipy's DOP853 of that equation, not the
+    project's closed form), +0.116 over what it was told at 0.5; LIGGGHTS delivers e; LIGGGHTS
+    refuses 0.05 (its own range), which is said, not run."""
+    from contact_model.constant_restitution import restitution_of_damping
+    from contact_model.keywords import KEYWORDS
+
+    require_engine("lmp", "lammps")
+    require_engine("liggghts", "liggghts")
+    project = copy_workflow(tmp_path / "project")
+    out = snakemake("-j2", "keywords", "--config",
+                    "builds=[{id: lammps, code: lammps, executable: lmp}, {id: liggghts, code: liggghts, "
+                    "executable: liggghts}]",
+                    "keywords={case: cases/steel.yaml, geometry: sphere-sphere, velocity: 1.0, "
+                    "restitution: [0.05, 0.5, 0.9]}", cwd=project)
+    assert out.returncode == 0, out.stderr[-3000:]
+    import pandas as pd
+
+    table = pd.read_csv(project / "results" / "keywords" / "promise.csv").set_index(["build", "e_requested"])
+    assert list(table.columns[:4]) == ["code", "keyword", "V", "criterion"]
+    for build, name in (("lammps", "lammps:tsuji"), ("liggghts", "liggghts:hertz-coefficientRestitution")):
+        for e in (0.5, 0.9):
+            row = table.loc[(build, e)]
+            independent = restitution_of_damping(KEYWORDS[name].b(e), "x0")
+            assert row.eps_own_equation == pytest.approx(independent, abs=1e-9)
+            assert abs(row.err_own_equation) + row.resolution <= 1e-6
+            assert row.err_promise == pytest.approx(row.eps_delivered - e, abs=1e-11)  # promise.csv keeps 12 digits
+    assert table.loc[("lammps", 0.5)].err_promise == pytest.approx(0.116, abs=1e-3)
+    assert abs(table.loc[("liggghts", 0.5)].err_promise) < 1e-6
+    assert table.loc[("liggghts", 0.05)].problem.startswith("not run: liggghts refuses it")
+    assert table.loc[("lammps", 0.05)].err_promise == pytest.approx(0.125, abs=2e-3)
+    summary = (project / "results" / "keywords" / "promise.md").read_text()
+    assert "| lammps " in summary and (project / "results" / "keywords" / "promise.png").stat().st_size > 0
+    assert not (project / "results" / "verdict.json").exists()  # no verdict of the study is touched

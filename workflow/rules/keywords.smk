@@ -11,6 +11,7 @@ rule keyword_runs:
         decks=lambda w: DECKS[BUILDS[w.build].code],
     output:
         rows="results/keywords/{build}.csv",
+        manifest="results/keywords/{build}/manifest.json",
         runs=directory("results/keywords/{build}/runs"),
     log: "logs/keywords/{build}.log"
     benchmark: "logs/benchmarks/keyword_runs/{build}.tsv"

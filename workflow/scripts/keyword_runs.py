@@ -16,6 +16,7 @@ from engines.plan import ladder_factors
 from postprocess.keyword_promise import COLUMNS, promise_rows
 from records.collision_metrics import collision_metrics
 from records.dump_file import read_dump
+from records.run_manifest import write_manifest
 
 log = log_to(snakemake.log[0])
 k = snakemake.params.keywords
@@ -47,4 +48,7 @@ rows = promise_rows(build.id, build.code, keyword, rungs_by_e, metrics, failures
 rows += [{"code": build.code, "build": build.id, "keyword": keyword.name, "e_requested": e, "V": V,
           "criterion": keyword.criterion, "problem": f"not run: {why}"} for e, why in refused.items()]
 pd.DataFrame(rows, columns=COLUMNS).to_csv(snakemake.output.rows, index=False, float_format="%.12g")
+write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs if r.name in sweep.dumps],
+               sweep.failed_runs(runs), case="keywords", build=build.id, engine=build.code,
+               engine_seconds=sweep.engine_seconds)
 log.info("%d runs landed, %d failed; engine process %.2f s", len(sweep.dumps), len(failures), sweep.engine_seconds)

@@ -22,7 +22,7 @@ lines = ["# The engines' restitution keywords: what they deliver against what th
          summary.to_markdown(index=False, floatfmt=".3g") if len(summary) else "(no keyword delivered a value)", "",
          f"![promise]({Path(snakemake.output.png).name})", ""]
 if len(problems):
-    lines += ["Runs that failed:", "", *(f"- {r.build} e = {r.e_requested:g}: {r.problem}"
+    lines += ["Not run (the code refuses that e) or failed:", "", *(f"- {r.build} e = {r.e_requested:g}: {r.problem}"
                                          for r in problems.itertuples()), ""]
 write_atomically(snakemake.output.md, "\n".join(lines))
 log.info("promise table: %d rows, %d builds", len(table), table.build.nunique())
