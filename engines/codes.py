@@ -73,6 +73,9 @@ class EngineCode:
     notes : tuple of str
         What a reader of the report must know about how the code runs the study (e.g. how a
         geometry it has no element for is represented); printed under the engines' table.
+    supplied : dict
+        {law: what of it the study itself supplies, not the engine}: the report says so at the
+        law's cells (YADE 2023's viscoelastic damping is the driver's own Python).
     keyword : str
         Its out-of-the-box law, the restitution keyword the law 'default' runs: a key of
         `contact_model.keywords.KEYWORDS` (its equation, map, clip and source).
@@ -100,6 +103,7 @@ class EngineCode:
     title: str = ""
     integrator: str = ""
     keyword: str = ""
+    supplied: dict[str, str] = field(default_factory=dict)
 
     def expected_seconds(self, runs: int, steps: int) -> float:
         """The sweep's expected length [s] by the cost model (rounded up about twice): the basis
@@ -117,6 +121,12 @@ class EngineCode:
         module, function = self.driver.split(":")
         return getattr(importlib.import_module(module), function)
 
+
+#: What the study supplies of YADE 2023's viscoelastic laws (cases/decks/yade/collisions.py).
+YADE_PYRUNNER = ("YADE 2023.02a has no viscoelastic Hertz law: the dissipative force c delta^(1/2) d(delta)/dt is "
+                 "added at every step by the study's own Python (a PyRunner of cases/decks/yade/collisions.py), so "
+                 "these cells validate YADE's Hertz force and integrator plus the project's damping, not a damping "
+                 "law of YADE's")
 
 #: Why Kratos 10.4 has no viscoelastic cell (engines.kratos's docstring cites the sources).
 KRATOS_NO_VISCOELASTIC = (
@@ -150,6 +160,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
     EngineCode(
         name="yade", title="YADE", integrator="leapfrog",
         keyword="yade:en",
+        supplied={"viscoelastic": YADE_PYRUNNER, "viscoelastic_clipped": YADE_PYRUNNER},
         banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
         install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
         default_criterion="F0",  # Hertz-Mindlin clips the normal force at zero

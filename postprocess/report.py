@@ -254,7 +254,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
         figures.append((plot_ladders, (ladder_runs, limits, tolerance, plots / "ladders.png", builds)))
     figures_drawn = start_drawing(figures, workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
-    html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes), matrix_html(cells))}
+    supplied = {name: code.supplied for name, code in CODES.items() if code.supplied}  # marked at the cells
+    html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes, supplied), matrix_html(cells, supplied))}
 
     lines = [
         f"# {inputs.title}", "",

@@ -199,6 +199,17 @@ def error_matrix(cells: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(data, index=pd.Index(builds, name="build"), columns=index)
 
 
+def supplied_footnotes(cells: pd.DataFrame, supplied: Mapping[str, Mapping[str, str]] | None) -> dict:
+    """{(engine code, law): footnote mark '†1', ...} of the cells whose law the study itself
+    supplies in that code (`engines.codes.EngineCode.supplied`), one per code and law, in the order
+    of the matrix."""
+    notes: dict[tuple[str, str], str] = {}
+    for r in cells[cells.status != "n/a"].itertuples() if len(cells) and supplied else ():
+        if r.law in (supplied.get(r.engine) or {}):
+            notes.setdefault((r.engine, r.law), f"†{len(notes) + 1}")
+    return notes
+
+
 def na_footnotes(cells: pd.DataFrame) -> dict[tuple[str, str], int]:
     """{(engine code, reason): footnote number} of the n/a cells, numbered from 1 in the order
     of the matrix (one note per code and reason, however many cells share it)."""
@@ -233,13 +244,16 @@ def _superscript(n: int) -> str:
 
 
 def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
-                    code_notes: Mapping[str, Sequence[str]] | None = None) -> list[str]:
+                    code_notes: Mapping[str, Sequence[str]] | None = None,
+                    supplied: Mapping[str, Mapping[str, str]] | None = None) -> list[str]:
     """The matrix as Markdown lines: the table (the law, geometry and criterion header rows,
-    one row per build), its legend, the n/a reasons as numbered notes and each code's notes."""
+    one row per build), its legend, the n/a reasons as numbered notes, what the study supplies of
+    a law in a code (`supplied`, marked † at the cell) and each code's notes."""
     columns = matrix_columns(cells)
     if not columns:
         return ["No gated check was made.", ""]
     notes = na_footnotes(cells)
+    marks = supplied_footnotes(cells, supplied)
     by_key = {(r.build, (r.law, r.geometry, r.criterion)): r._asdict() for r in cells.itertuples()}
 
     def group_row(level):
@@ -255,6 +269,8 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
         if cell is None:
             return SYMBOL["none"]
         t = cell_text(cell)
+        if (cell["engine"], cell["law"]) in marks:
+            t += " " + marks[(cell["engine"], cell["law"])]
         return t + _superscript(notes[(cell["engine"], cell["reason"])]) if cell["status"] == "n/a" else t
 
     builds = list(pd.unique(cells.build))
@@ -266,6 +282,10 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
     if notes:
         lines += ["Not available (the build's code cannot express the law; nothing is run, nothing is gated):", ""]
         lines += [f"{n}. {code}: {md_text(reason)}" for (code, reason), n in notes.items()] + [""]
+    if marks:
+        lines += ["Supplied by the study, not the engine (the cells marked †):", ""]
+        lines += [f"- {mark} {code}, {law}: {md_text(supplied[code][law])}" for (code, law), mark in marks.items()]
+        lines += [""]
     lines += code_notes_markdown(code_notes, list(pd.unique(cells.engine)))
     return lines
 
@@ -298,7 +318,7 @@ def code_notes_markdown(code_notes: Mapping[str, Sequence[str]] | None, codes: S
     return ["How the codes run the study:", ""] + [f"- **{c}**: {md_text(n)}" for c, n in items] + [""]
 
 
-def matrix_html(cells: pd.DataFrame) -> str:
+def matrix_html(cells: pd.DataFrame, supplied: Mapping[str, Mapping[str, str]] | None = None) -> str:
     """The matrix as an HTML table (class 'matrix'): three header rows (law, geometry,
     criterion; the build column spans them), one row per build; each cell a <td> of class
     'pass', 'fail', 'na' or 'none' whose text is `cell_text` and whose title is `cell_title`,
@@ -307,6 +327,7 @@ def matrix_html(cells: pd.DataFrame) -> str:
     if not columns:
         return "<p>No gated check was made.</p>"
     notes = na_footnotes(cells)
+    marks = supplied_footnotes(cells, supplied)
     by_key = {(r.build, (r.law, r.geometry, r.criterion)): r._asdict() for r in cells.itertuples()}
 
     def spans(level):
@@ -345,6 +366,8 @@ def matrix_html(cells: pd.DataFrame) -> str:
             text += "</span>" if '<span class="res">' in text else ""
             if status == "n/a":
                 text += f"<sup>{notes[(cell['engine'], cell['reason'])]}</sup>"
+            elif (cell.get("engine"), cell.get("law")) in marks:
+                text += f"<sup>{marks[(cell['engine'], cell['law'])]}</sup>"
             css = {"n/a": "na"}.get(status, status)
             tds.append(f'<td class="{css}{edge(i)}" title="{escape(cell_title(cell), quote=True)}">{text}</td>')
         body.append(f'<tr><th scope="row" class="build">{escape(str(b))}</th>{"".join(tds)}</tr>')

@@ -349,3 +349,21 @@ def test_a_cell_shows_its_extrapolated_error_and_the_resolution_it_was_judged_at
     assert cell_text(bad) == "✘ 8.0e-07 (res 5.0e-07; eps)"
     assert "judged at a resolution of 1.6e-07" in cell_title(good)
     assert "not resolved at this tolerance" in cell_title(bad)
+
+
+def test_a_law_the_study_supplies_in_a_code_is_said_at_its_cells(study):
+    """YADE 2023's viscoelastic damping is the driver's own Python (engines.codes ``supplied``): its
+    four viscoelastic cells carry † and a note says what the study supplies; no other cell does."""
+    from engines.codes import CODES
+
+    _, checks, not_available = study
+    cells = matrix_cells(checks, not_available, BUILDS)
+    supplied = {"yade": CODES["yade"].supplied}
+    md = "\n".join(matrix_markdown(cells, TOL, supplied=supplied))
+    yade_row = next(line for line in md.splitlines() if line.startswith("| **yade-2023** |"))
+    assert yade_row.count("†1") == 4 and "†" not in "".join(line for line in md.splitlines()
+                                                             if line.startswith("| **lammps"))
+    assert "- †1 yade, viscoelastic: YADE 2023.02a has no viscoelastic Hertz law" in md
+    html = matrix_html(cells, supplied)
+    assert html.count("<sup>†1</sup>") == 4
+    assert "†" not in "\n".join(matrix_markdown(cells, TOL))  # nothing supplied, nothing marked
