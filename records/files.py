@@ -14,8 +14,10 @@ def file_sha256(path) -> str:
 
 def write_atomically(path, data: bytes | str) -> None:
     """Write `path` so that a reader sees the old file or the whole new one, never a part: the
-    data go to a hidden temporary file beside it ('.<name>.part'), which then replaces it."""
+    data go to a hidden temporary file beside it ('.<name>.<pid>.part'), which then replaces it.
+    The process id keeps two writers of one file apart (two jobs that start together both mark
+    the study's verdict stale): each replaces the file whole, the last one's stays."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.part")
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
     tmp.write_bytes(data.encode() if isinstance(data, str) else data)
     os.replace(tmp, path)

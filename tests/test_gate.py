@@ -289,3 +289,31 @@ def test_the_line_that_ends_the_study_log_gives_the_verdict_and_the_report(tmp_p
     assert verdict_line(tmp_path) == f"FAIL: 112 of 114 gated checks pass; report: {tmp_path / 'report.html'}"
     mark_stale(tmp_path, "run_engine (case steel, build lammps)")
     assert verdict_line(tmp_path).startswith("STALE: results changed since this verdict (FAIL) was written")
+
+
+def _mark_many(folder, n):
+    for i in range(n):
+        mark_stale(folder, f"job {i}")
+
+
+def test_jobs_that_start_together_mark_the_verdict_stale_at_once_without_a_collision(tmp_path):
+    """Every case's plan job starts at once and each marks the study's verdict stale: two
+    processes marking one folder 200 times each raise nothing (each writes through a temporary of
+    its own; one shared name made the second writer's rename fail), and the files stay whole."""
+    import multiprocessing
+
+    write_verdict({"verdict": "PASS", "pass": True, "checked": 1, "failed": 0, "failures": []},
+                  tmp_path / "verdict.json")
+    (tmp_path / "report.md").write_text("# Report\n\nPASS\n")
+    junit_xml(pd.DataFrame(columns=CHECK_COLUMNS)).write(tmp_path / "junit.xml")
+    ctx = multiprocessing.get_context("fork")
+    workers = [ctx.Process(target=_mark_many, args=(tmp_path, 200)) for _ in range(2)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join(60)
+    assert [w.exitcode for w in workers] == [0, 0]
+    assert json.loads((tmp_path / "verdict.json").read_text())["verdict"] == "STALE"
+    assert (tmp_path / "report.md").read_text().count("<!-- stale -->") == 1
+    assert len(ET.parse(tmp_path / "junit.xml").getroot().findall(".//testcase[@name='stale']")) == 1
+    assert not list(tmp_path.glob(".*.part"))
