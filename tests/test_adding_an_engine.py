@@ -12,7 +12,8 @@ import pytest
 import yaml
 
 from conftest import tier_of
-from contact_model import CRITERIA, LAWS, engine_parameters
+from contact_model import LAWS, engine_parameters
+from contact_model.keywords import KEYWORDS
 from engine_cases import VERSIONS, steel_pair
 from engines.codes import CODES, EngineCode
 
@@ -67,8 +68,9 @@ def recipe_problems(name: str, code: EngineCode) -> list[str]:
     check("engines/codes.py", code.name == name and code.install_hint and code.default_law and code.processes >= 1
           and code.title and code.integrator, f"the entry of {name} is incomplete (install hint, default law, "
                                               "processes, title, integrator)")
-    check("engines/codes.py", code.default_criterion in CRITERIA and set(code.unavailable) <= set(LAWS)
-          and all(code.unavailable.values()), f"the criteria or laws of {name} are not the study's")
+    check("engines/codes.py", code.keyword in KEYWORDS and KEYWORDS[code.keyword].code == name
+          and set(code.unavailable) <= set(LAWS)
+          and all(code.unavailable.values()), f"the keyword or laws of {name} are not the registries'")
     check("engines/codes.py", code.banner.pattern.startswith("^") and code.version_args
           and min(code.cost.start_s, code.cost.per_run_s, code.cost.per_step_s) > 0,
           f"the banner, version arguments or cost model of {name}")
@@ -113,7 +115,7 @@ def test_a_code_added_to_the_registry_alone_fails_at_every_other_place(monkeypat
     nowhere else, is named at each place a new code must reach."""
     lammps = CODES["lammps"]
     dummy = EngineCode(name="dummy", banner=re.compile(r"^Dummy .*$", re.M), version_args=("--version",),
-                       install_hint="none", default_criterion="x0", parameters=lambda E, R, M, eta: {},
+                       install_hint="none", parameters=lambda E, R, M, eta: {},
                        driver="engines.dummy:run_dummy", decks=("cases/decks/dummy/*.in",), cost=lammps.cost,
                        default_law="none", title="DummyDEM", integrator="velocity Verlet")
     monkeypatch.setitem(CODES, "dummy", dummy)
