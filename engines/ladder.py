@@ -65,7 +65,7 @@ START_PHASE = 0.5
 #: The powers of h in the expansion of each kind of law (see the module's docstring). A damping
 #: force growing as s^{1/4} from touching (the engines' restitution keywords, x^{1/4} x') gives
 #: h^{5/4 + k} where the viscoelastic law's s^{1/2} gives h^{3/2 + k}: measured on every code's
-#: keyword (tests/test_keyword_conformance.py), its ladder's limit meets the closed form to 1e-8.
+#: keyword (tests/test_engine_keywords.py), its ladder's limit meets the closed form to 1e-8.
 DISSIPATIVE_POWERS = (1.0, 1.5, 2.0, 2.5, 3.0)
 ELASTIC_POWERS = (2.0, 2.5, 3.5, 4.0)
 QUARTER_POWERS = (1.0, 1.25, 2.0, 2.25, 2.5)

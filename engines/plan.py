@@ -6,13 +6,14 @@ own, or those that give the study's K grid in that geometry):
 - the viscoelastic law (tail kept: criteria x0 and F0 from one trajectory) in every engine;
 - optionally the clipped viscoelastic law (criterion F0: the engines' own way of separating);
 - optionally the elastic law (eta = 0, at the same velocities: Hertz alone, exact);
-- optionally each engine's out-of-the-box law, its restitution matched once, at `match_K`,
-  to the reference eps under the criterion that engine's default stands for; the same setting
-  then runs at every velocity of the sweep, which shows how far it drifts.
+- optionally each engine's out-of-the-box law (its restitution keyword), told the reference eps
+  at `match_K` under the criterion that engine's keyword stands for (or the case's own
+  restitution), at every velocity of the sweep.
 
 Each run of a gated law is a ladder of runs at several time steps (`ladder`: the factors of
 T_e per kind of law, `engines.ladder`), extrapolated to dt -> 0 by the post-processing; the
-out-of-the-box law runs once, at T_e / time_step_factor (compared, not gated).
+out-of-the-box law's against its keyword's own equation. `time_step_factor` sets the probe run
+that checks a velocity can be run.
 
 A velocity whose Hertz overlap delta_e exceeds `max_overlap_ratio` R* is not run, with the
 reason recorded: there the contact radius is no longer small against R* (Hertz's premise), and
@@ -214,9 +215,9 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
               ladder: dict | None = None, told: float | None = None) -> Plan:
     """Every run of `case` for the given engine builds (see `build_codes`) and laws, in a
     stable order: every build runs the same pairs, velocities, laws and time steps. A gated law
-    runs a ladder of time steps (`ladder`, default DEFAULT_LADDER; `ladder_factors`), the
-    out-of-the-box law one run at T_e / time_step_factor, told the restitution `told` (else
-    the reference's at match_K under its criterion).
+    runs a ladder of time steps (`ladder`, default DEFAULT_LADDER; `ladder_factors`); the
+    out-of-the-box law is told the restitution `told` (else the reference's at match_K under its
+    criterion).
 
     A case with restitutions (`impact: restitution`) is planned once per restitution
     (`contact_model.case_file.restitution_variants`): its contacts' eta set to restitute it at

@@ -14,11 +14,12 @@ Contact laws:
   exactly). Every code can express it, so it is the one law gated in every engine, including
   those that cannot express the viscoelastic force (`engines.codes`, ``unavailable``). The
   trajectory has no tail, so x0 and F0 coincide; it stands for x0.
-- ``default``: what a user gets out of the box (LIGGGHTS ``model hertz``, YADE Hertz-Mindlin with
-  its restitution-coefficient damping, LAMMPS ``damping tsuji``), its restitution set to the
-  viscoelastic reference eps at one velocity (`engines.plan`, ``default_law_match_K``), under the
-  criterion that engine's default stands for (`DEFAULT_LAW_CRITERION`). Compared with the
-  viscoelastic reference, not expected to agree.
+- ``default``: what a user gets out of the box, the code's restitution keyword
+  (`engines.codes` ``keyword``: LIGGGHTS ``model hertz``, YADE Hertz-Mindlin with ``en``, LAMMPS
+  ``damping tsuji``, ...), told a restitution (`engines.plan`: the viscoelastic reference eps at K =
+  default_law_match_K, or the case's own); gated like the others, against its own equation (its reference row
+  is `contact_model.keywords.keyword_reference`), under the criterion its force allows
+  (`DEFAULT_LAW_CRITERION`).
 """
 
 from __future__ import annotations
@@ -97,8 +98,7 @@ class RunSpec:
         """dt [s]: T_e / time_step_factor, moved so that a whole number of steps spans the
         contact up to the law's aligned end (`ALIGNED_END`, `engines.ladder.aligned_time_step`):
         with the start at START_PHASE, the end then falls at the same phase at every time step
-        of a ladder. Unaligned (exactly T_e / factor) for the out-of-the-box law, and where the
-        reference is not solved (K > 10)."""
+        of a ladder. Unaligned (exactly T_e / factor) where the reference is not solved (K > 10)."""
         T_e = self.scales["T_e"]
         tau = self._reference_time(self.aligned_end)
         if tau is None:
