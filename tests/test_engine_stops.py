@@ -159,8 +159,9 @@ def test_crashed_script_engine_names_the_signal_and_leaves_no_dump(tmp_path, eng
     sweep = runner(specs, tmp_path / "out", executable=wrapper, timeout_floor_s=CRASH_FLOOR_S)
     build = VERSIONS[DEFAULT_BUILD[engine]]
     printed, _ = assert_stopped_in_second_run(sweep, specs, tmp_path / "out", engine, build,
-                                              "exited with signal SIGSEGV", "End of error message")
-    assert "Segmentation fault" in printed  # the engine's stderr (MPI's backtrace) is in the log too
+                                              "exited with signal SIGSEGV", "Segmentation fault")
+    # The wrapper's shell reports the signal last, always. MPI's own backtrace ("End of error
+    # message") usually comes before it, but not always: once in CI it was missing from the log.
     assert_group_gone(tmp_path / "wrapper.pid")
 
 
