@@ -67,7 +67,7 @@ def cluster_resources(runtime=None, mem_mb=None):
 
 
 from contact_model import load_case  # noqa: E402
-from engines.plan import plan_listing, plan_runs  # noqa: E402
+from engines.plan import plan_listing, plan_runs, without_missing_keywords  # noqa: E402
 
 EXTRAS = config["extras"]
 import engines.codes  # noqa: E402

@@ -119,6 +119,15 @@ class Keyword:
     source: str
     known_defect: str = ""
     accepts: tuple[float, float] = (0.0, 1.0)
+    #: What the code is given for a requested restitution e, when it is told something else
+    #: (YADE's betan: Thornton's beta of e, what its own `en` would compute); None: e itself.
+    from_restitution: Callable[[float], float] | None = None
+    #: The first release of the code that has it, (year, month, day); None: every release.
+    since: tuple[int, int, int] | None = None
+
+    def told_for(self, e: float) -> float:
+        """The value the code is told for a requested restitution `e` (`from_restitution`)."""
+        return e if self.from_restitution is None else self.from_restitution(e)
 
     def refuses(self, told: float) -> str:
         """Why the code refuses the told value ('' when it takes it)."""
@@ -157,14 +166,15 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
             known_defect=_TSUJI_DEFECT),
     Keyword("lammps:coeff_restitution", "lammps", "pair_style granular hertz/material E e nu damping coeff_restitution",
             "quarter", False, "e", lambda e: 2.5 * log_beta(e), "29 Aug 2024 ... (not in 29 Sep 2021)",
-            "src/GRANULAR/gran_sub_mod_damping.cpp:161-185 @stable_29Aug2024 (PR #4068)"),
+            "src/GRANULAR/gran_sub_mod_damping.cpp:161-185 @stable_29Aug2024 (PR #4068)", since=(2024, 8, 29)),
     Keyword("yade:en", "yade", "Ip2_FrictMat_FrictMat_MindlinPhys(en=e)", "quarter", True, "e",
             lambda e: ROOT_15_2 * thornton_beta(e), "2023.02a",
             "pkg/dem/HertzMindlin.cpp:76-104 (Thornton 2013 (B6)), :352-356 (c_n = 2 beta_n sqrt(m k_n)), "
             ":389-402 (the clip) @2023.02a"),
     Keyword("yade:betan", "yade", "Ip2_FrictMat_FrictMat_MindlinPhys(betan=beta)", "quarter", True, "beta",
             lambda beta: ROOT_15_2 * beta, "2023.02a",
-            "pkg/dem/HertzMindlin.cpp:106-109, :352-356, :389-402 @2023.02a"),
+            "pkg/dem/HertzMindlin.cpp:106-109, :352-356, :389-402 @2023.02a", accepts=(0.0, 1e300),
+            from_restitution=thornton_beta),
     Keyword("kratos:hertz-COEFFICIENT_OF_RESTITUTION", "kratos",
             "DEM_D_Hertz_viscous_Coulomb with COEFFICIENT_OF_RESTITUTION", "quarter", True, "e",
             lambda e: ROOT_15_2 * kratos_gamma(e), "9.3 ... 10.4",
@@ -179,16 +189,41 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
 
 
 def promised_restitution(keyword: str, e: float) -> float:
-    """What `keyword`'s own equation restitutes when told `e`, exactly, under the criterion its
-    force allows (`Keyword.criterion`); its promise error is this minus e."""
+    """What `keyword`'s own equation restitutes when asked for `e` (told `Keyword.told_for(e)`),
+    exactly, under the criterion its force allows (`Keyword.criterion`); its promise error is
+    this minus e."""
     from reference.quarter_power_damping import restitution_quarter_power
 
     k = KEYWORDS[keyword]
-    return restitution_quarter_power(k.b(e), k.criterion)
+    return restitution_quarter_power(k.b(k.told_for(e)), k.criterion)
+
+
+_MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
+
+
+def release_date(banner: str) -> tuple[int, int, int] | None:
+    """(year, month, day) of a version banner that dates its release ('LAMMPS (29 Sep 2021 -
+    Update 2)'), None when it names no date."""
+    import re
+
+    m = re.search(r"\b(\d{1,2}) (" + "|".join(_MONTHS) + r")[a-z]* (\d{4})\b", banner)
+    return (int(m.group(3)), _MONTHS.index(m.group(2)) + 1, int(m.group(1))) if m else None
+
+
+def missing_in(keyword: str, banner: str) -> str | None:
+    """Why the build whose version banner is `banner` lacks `keyword` (its release predates the
+    keyword's `since`), None when it has it or its release is not dated."""
+    k = KEYWORDS[keyword]
+    date = release_date(banner)
+    if k.since is None or date is None or date >= k.since:
+        return None
+    y, m, d = k.since
+    return f"{k.written.split(' + ')[-1]} came in the release of {d} {_MONTHS[m - 1]} {y}; this build is {banner}"
 
 
 def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
-    """The reference row of a run of `keyword` told `told` (`reference.quarter_power_damping`'s
+    """The reference row of a run of `keyword` asked for restitution `told` (its code is given
+    `Keyword.told_for(told)`; `reference.quarter_power_damping`'s
     characteristics of its own equation, in the fields of a `reference.CollisionTable` row), with
     the run's viscoelastic K (its name and plots place it by it), the keyword's b, and tau_return:
     where the overlap of a clipped run returns to zero in free flight after the force vanished
@@ -196,7 +231,7 @@ def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
     from reference.quarter_power_damping import solve_quarter_power
 
     k = KEYWORDS[keyword]
-    row = solve_quarter_power(k.b(told))
+    row = solve_quarter_power(k.b(k.told_for(told)))
     x_f = (0.8 * row["b"] * row["eps_F0"]) ** 0.8
     return {**row, "K": float(K), "tau_return": row["tau_f"] + (x_f / row["eps_F0"] if row["eps_F0"] > 0 else 0.0)}
 

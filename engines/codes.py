@@ -28,6 +28,7 @@ from typing import Callable
 
 from contact_model import engine_parameters as model_to_engine
 from contact_model.keywords import KEYWORDS
+from contact_model.laws import law
 
 
 @dataclass(frozen=True)
@@ -254,6 +255,21 @@ def code(name: str) -> EngineCode:
         raise ValueError(f"unknown engine code {name!r}; known: {', '.join(CODES)}") from None
 
 
-def law_unavailable(code_name: str, law: str) -> str | None:
-    """Why `law` cannot run in code `code_name`, or None when it can."""
-    return code(code_name).unavailable.get(law)
+def keyword_of(law_name: str, code_name: str) -> str | None:
+    """The keyword (`contact_model.keywords.KEYWORDS` key) a run of `law_name` in `code_name`
+    runs: the code's own for ``default``, the law's for a named keyword law, None for the
+    model's laws."""
+    entry = law(law_name)
+    if entry.name == "default":
+        return code(code_name).keyword
+    return entry.keyword
+
+
+def law_unavailable(code_name: str, law_name: str) -> str | None:
+    """Why law `law_name` cannot run in code `code_name`, or None when it can: the code's own
+    reasons (`EngineCode.unavailable`), or a keyword law of another code's keyword."""
+    entry = law(law_name)
+    if entry.keyword is not None and KEYWORDS[entry.keyword].code != code_name:
+        k = KEYWORDS[entry.keyword]
+        return f"{k.written} is a keyword of {code(k.code).title}, not of {code(code_name).title}"
+    return code(code_name).unavailable.get(law_name)

@@ -67,7 +67,7 @@ def job_entry(spec: RunSpec, out: Path) -> dict:
         entry.update(R_wall=wall["R_wall"], m_wall=WALL_MASS_RATIO * p.body_1.mass, modulus_factor=factor)
     else:
         entry["m2"] = p.body_2.mass
-    if spec.law == "default":
+    if spec.keyword is not None:  # its one keyword
         # Out of the box: HertzMindlinViscoPrms takes the restitution coefficient itself; its
         # normal force is 4/3 E sqrt(R*) delta^{3/2}, E standing for E*.
         entry.update(E=params["E_hertz_mindlin"] * factor, en=spec.matched_restitution)

@@ -59,6 +59,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contact_model.laws import LAW_REGISTRY
+
 #: Where contact starts on the step grid: half a step after a sample, at every rung (no sample
 #: falls at touching, where a rounding-level overlap would decide whether a force acts).
 START_PHASE = 0.5
@@ -82,9 +84,10 @@ RESOLUTION_FLOOR = 1e-8
 
 
 def powers_of(eta: float, law: str = "viscoelastic") -> tuple[float, ...]:
-    """The powers of h in the error expansion of a run of `law` with viscosity `eta` (0 and a
-    law other than an engine's keyword ('default'): elastic)."""
-    if law == "default":
+    """The powers of h in the error expansion of a run of `law` with viscosity `eta`: an
+    engine's keyword's (`contact_model.laws`, all of the x^{1/4} form), else elastic for eta = 0,
+    else the viscoelastic law's."""
+    if LAW_REGISTRY[law].is_keyword:
         return QUARTER_POWERS
     return ELASTIC_POWERS if eta == 0 else DISSIPATIVE_POWERS
 

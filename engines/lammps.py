@@ -44,13 +44,18 @@ def deck_files(spec: RunSpec) -> list[str]:
     return [DECK_OF_LABEL.get(spec.label) or DECK_OF_GEOMETRY[spec.pair.geometry]]
 
 
+#: The damping words of LAMMPS's restitution keywords (contact_model.keywords).
+DAMPING_OF_KEYWORD = {"lammps:tsuji": "tsuji", "lammps:coeff_restitution": "coeff_restitution"}
+
+
 def model_words(spec: RunSpec) -> str:
     """The granular model of a run, as pair_coeff / fix wall/gran words."""
     p = spec.pair
-    if spec.law == "default":
-        # hertz/material E e nu with tsuji damping: e is read as the restitution coefficient.
-        # nu = 0 on both sides makes E* = E/2, and also sidesteps the wall's 1 - nu defect.
-        return f"hertz/material {number(2.0 * p.E)} {number(spec.matched_restitution)} 0.0 damping tsuji {TANGENTIAL}"
+    if spec.keyword is not None:
+        # hertz/material E e nu with a restitution damping: e is read as the restitution
+        # coefficient. nu = 0 on both sides makes E* = E/2, and also sidesteps the wall's 1 - nu defect.
+        return (f"hertz/material {number(2.0 * p.E)} {number(spec.matched_restitution)} 0.0 "
+                f"damping {DAMPING_OF_KEYWORD[spec.keyword]} {TANGENTIAL}")
     params = code("lammps").contact_parameters(p)
     words = f"hertz {number(params['kn'])} {number(params['eta_n0'])} damping viscoelastic {TANGENTIAL}"
     return words + (" limit_damping" if spec.law == "viscoelastic_clipped" else "")

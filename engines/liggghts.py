@@ -33,7 +33,7 @@ def deck_variables(spec: RunSpec, out: Path, decks: Path) -> dict[str, str]:
         "model_tail": "limitForce " + ("on" if spec.law == "viscoelastic_clipped" else "off"),
         "out": str(out),
     }
-    if spec.law == "default":
+    if spec.keyword is not None:  # its one keyword: model hertz with coefficientRestitution
         var["model_head"] = "model hertz tangential no_history"
         var["young"] = number(2.0 * p.E)  # poisson 0 on both: Y* = Y/2 = E*
         var["restitution"] = number(spec.matched_restitution)

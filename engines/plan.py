@@ -6,9 +6,13 @@ own, or those that give the study's K grid in that geometry):
 - the viscoelastic law (tail kept: criteria x0 and F0 from one trajectory) in every engine;
 - optionally the clipped viscoelastic law (criterion F0: the engines' own way of separating);
 - optionally the elastic law (eta = 0, at the same velocities: Hertz alone, exact);
-- optionally each engine's out-of-the-box law (its restitution keyword), told the reference eps
-  at `match_K` under the criterion that engine's keyword stands for (or the case's own
-  restitution), at every velocity of the sweep.
+- optionally each engine's out-of-the-box law (its restitution keyword, law ``default``) and the
+  keyword laws (`contact_model.laws`: ``betan``, ``coeff_restitution``), each told the reference
+  eps at `match_K` under the criterion the keyword's force allows (or the case's own
+  restitution), at every velocity of the sweep. (Told the reference's eps at each velocity
+  instead, the keywords' ladders no longer resolve 1e-6 at the ends of the K grid: e = 0.003
+  at K = 5, where the x0 end creeps, and e = 0.99 at K = 0.01, where a clipped force's F0 falls
+  next to x = 0.)
 
 Each run of a gated law is a ladder of runs at several time steps (`ladder`: the factors of
 T_e per kind of law, `engines.ladder`), extrapolated to dt -> 0 by the post-processing; the
@@ -41,17 +45,17 @@ import math
 from dataclasses import dataclass, field, replace
 
 from contact_model.case_file import VELOCITY_MEANING, Case, CaseError
-from contact_model.keywords import keyword_reference
+from contact_model.keywords import KEYWORDS, keyword_reference, missing_in
 from contact_model.contact_pair import Body, ContactPair
 from records.files import file_sha256
 from reference import solve_collision, solve_collisions
 
-from .codes import CODES, law_unavailable
+from .codes import keyword_of, law_unavailable
 from .ladder import ladder_roundoff as roundoff_of_ladder
 from .ladder import powers_of, rung_factor
-from contact_model import LAWS
+from contact_model import LAW_REGISTRY, LAWS
 
-from .run_spec import DEFAULT_LAW_CRITERION, ENGINES, RunSpec
+from .run_spec import ENGINES, RunSpec
 
 #: The largest round-off of positions a ladder of runs may carry into its extrapolated errors
 #: (`ladder_roundoff`), relative: a fifth of the default tolerance (1e-6), so that round-off
@@ -78,7 +82,7 @@ def ladder_factors(ladder: dict, law: str, K: float) -> list[float]:
     """The time-step factors of the rungs of a run of `law` at dissipation parameter K: the
     ladder's 'elastic' factors for the elastic law (or K = 0), its 'dissipative' ones refined by
     `engines.ladder.rung_factor` for the viscoelastic laws, unrefined for an engine's keyword."""
-    if law == "default":  # an engine's keyword: its damping does not grow with K
+    if LAW_REGISTRY[law].is_keyword:  # an engine's keyword: its damping does not grow with K
         return [float(f) for f in ladder["dissipative"]]
     if law == "elastic" or K == 0:
         return [float(f) for f in ladder["elastic"]]
@@ -177,10 +181,12 @@ def _solved_in_one_batch(case: Case, velocities: dict) -> dict:
     return _with_solutions(Ks)
 
 
-def matched_restitution(engine: str, match_K: float) -> float:
-    """The reference eps at match_K under the criterion of the engine's default law."""
+def told_restitution(keyword: str, match_K: float) -> float:
+    """What a keyword is told when the case gives no restitution: the viscoelastic reference's
+    eps at match_K under the criterion the keyword's force allows (x0 where it keeps the tail,
+    F0 where it clips)."""
     r = solve_collision(match_K)
-    return r["eps_x0"] if DEFAULT_LAW_CRITERION[engine] == "x0" else r["eps_F0"]
+    return float(r["eps_x0"] if KEYWORDS[keyword].criterion == "x0" else r["eps_F0"])
 
 
 def build_codes(builds) -> dict[str, str]:
@@ -215,9 +221,10 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
               ladder: dict | None = None, told: float | None = None) -> Plan:
     """Every run of `case` for the given engine builds (see `build_codes`) and laws, in a
     stable order: every build runs the same pairs, velocities, laws and time steps. A gated law
-    runs a ladder of time steps (`ladder`, default DEFAULT_LADDER; `ladder_factors`); the
-    out-of-the-box law is told the restitution `told` (else the reference's at match_K under its
-    criterion).
+    runs a ladder of time steps (`ladder`, default DEFAULT_LADDER; `ladder_factors`); a keyword
+    law is told the restitution `told`, else the reference's at match_K (`told_restitution`).
+    A told restitution the keyword's code refuses (`Keyword.refuses`: LIGGGHTS wants e > 0.05)
+    is not run there, listed in `Plan.not_available` with the reason.
 
     A case with restitutions (`impact: restitution`) is planned once per restitution
     (`contact_model.case_file.restitution_variants`): its contacts' eta set to restitute it at
@@ -269,9 +276,6 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     solved = _with_solutions({*Ks.values(), 0.0}, solved)
     reference, elastic = {key: solved[K] for key, K in Ks.items()}, solved[0.0]
     builds = build_codes(engines)
-    matched = ({code: told if told is not None else matched_restitution(code, match_K)
-                for code in set(builds.values()) if law_unavailable(code, "default") is None}
-               if "default" in laws else {})
     for build, engine in builds.items():
         for pair in case.pairs:
             for law in laws:
@@ -282,11 +286,19 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                     plan.not_available.append({"build": build, "engine": engine, "law": law,
                                                "geometry": pair.geometry, "reason": reason})
                     continue
-                e = matched[engine] if law == "default" else None
+                keyword = keyword_of(law, engine)
                 for v in allowed[pair.geometry]:
                     row = elastic if law == "elastic" else reference[(pair.geometry, v)]
-                    if law == "default":  # the engine's keyword, against its own equation
-                        row = keyword_reference(CODES[engine].keyword, e, row["K"])
+                    e = None
+                    if keyword is not None:  # the engine's keyword, against its own equation
+                        e = told if told is not None else told_restitution(keyword, match_K)
+                        refused = KEYWORDS[keyword].refuses(KEYWORDS[keyword].told_for(e))
+                        if refused:
+                            plan.not_available.append({
+                                "build": build, "engine": engine, "law": law, "geometry": pair.geometry,
+                                "reason": f"told e = {e:.6g} at V = {v:.6g} m/s: {refused}"})
+                            continue
+                        row = keyword_reference(keyword, e, row["K"])
                     factors = ladder_factors(ladder, law, row["K"])
                     plan.runs += [RunSpec(case.name, engine, law, pair, v, f, matched_restitution=e, reference=row,
                                           build=build) for f in factors]
@@ -349,6 +361,25 @@ def plan_listing(case: Case, plan: Plan) -> dict:
                       "matched_restitution": r.matched_restitution, "eta": r.pair.eta, "reference": r.reference}
                      for r in plan.runs],
             "not_run": plan.skipped, "not_available": plan.not_available, "notes": plan.notes}
+
+
+def without_missing_keywords(listing: dict, banners: dict[str, str]) -> dict:
+    """The plan listing without the runs of keywords their build's release lacks
+    (`contact_model.keywords.missing_in`: LAMMPS 29 Sep 2021 has no ``coeff_restitution``),
+    each such (build, law, geometry) listed in ``not_available`` with the reason; `banners`
+    {build id: version banner} (`engines.builds.check_build`). The rest is unchanged."""
+    missing = {}
+    for run in listing["runs"]:
+        keyword = keyword_of(run["law"], run["engine"])
+        banner = banners.get(run["build"])
+        if keyword is not None and banner is not None and missing_in(keyword, banner):
+            missing[(run["build"], run["law"], run["geometry"])] = (run["engine"], missing_in(keyword, banner))
+    if not missing:
+        return listing
+    cells = [{"build": b, "engine": engine, "law": law, "geometry": g, "reason": reason}
+             for (b, law, g), (engine, reason) in missing.items()]
+    return {**listing, "runs": [r for r in listing["runs"] if (r["build"], r["law"], r["geometry"]) not in missing],
+            "not_available": listing["not_available"] + cells}
 
 
 def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunSpec]:

@@ -18,8 +18,9 @@ Contact laws:
   (`engines.codes` ``keyword``: LIGGGHTS ``model hertz``, YADE Hertz-Mindlin with ``en``, LAMMPS
   ``damping tsuji``, ...), told a restitution (`engines.plan`: the viscoelastic reference eps at K =
   default_law_match_K, or the case's own); gated like the others, against its own equation (its reference row
-  is `contact_model.keywords.keyword_reference`), under the criterion its force allows
-  (`DEFAULT_LAW_CRITERION`).
+  is `contact_model.keywords.keyword_reference`), under the criterion its force allows.
+- a keyword law (``betan``, ``coeff_restitution``: `contact_model.laws`): another keyword of one
+  code, run and gated as ``default`` is (`RunSpec.keyword`).
 """
 
 from __future__ import annotations
@@ -28,9 +29,10 @@ import math
 from dataclasses import dataclass, field, replace
 
 from contact_model import LAW_CRITERIA, LAWS, ContactPair
+from contact_model.keywords import KEYWORDS
 from reference import HERTZ_TAU, solve_collision
 
-from .codes import CODES
+from .codes import CODES, keyword_of
 from .ladder import START_PHASE, aligned_time_step
 
 # The laws and criteria (LAWS, GATED_LAWS, LAW_CRITERIA) are the model's: contact_model.laws.
@@ -82,8 +84,13 @@ class RunSpec:
             raise ValueError(f"impact velocity must be positive, got {self.velocity}")
         if self.law == "elastic" and self.pair.eta != 0:
             object.__setattr__(self, "pair", replace(self.pair, eta=0.0))  # Hertz alone
-        if self.law == "default" and self.matched_restitution is None:
-            raise ValueError("law 'default' needs the restitution coefficient it is matched to")
+        if self.keyword is not None and self.matched_restitution is None:
+            raise ValueError(f"law {self.law!r} (a keyword) needs the restitution coefficient it is told")
+
+    @property
+    def keyword(self) -> str | None:
+        """The engine keyword this run runs (`engines.codes.keyword_of`), None for the model's laws."""
+        return keyword_of(self.law, self.engine)
 
     @property
     def scales(self) -> dict:
@@ -109,13 +116,13 @@ class RunSpec:
     def aligned_end(self) -> str | None:
         """The end of contact its time step is aligned to (`ALIGNED_END`; for the engine's keyword,
         the end its force allows: F0 where it clips, x0 where it keeps the tail)."""
-        if self.law == "default":
-            return DEFAULT_LAW_CRITERION[self.engine]
+        if self.keyword is not None:
+            return KEYWORDS[self.keyword].criterion
         return ALIGNED_END.get(self.law)
 
     def _reference_row(self) -> dict | None:
         """The reference solution at this run's K (None for K > 10, outside the solver's range)."""
-        if self.law == "default" or (self.reference is not None and self.K <= 10.0):
+        if self.keyword is not None or (self.reference is not None and self.K <= 10.0):
             return self.reference  # an engine keyword's row is its own equation's, at any K
         if self.K > 10.0:
             return None
@@ -144,9 +151,9 @@ class RunSpec:
     @property
     def represents(self) -> tuple[str, ...]:
         """The end-of-collision criteria this run's trajectory stands for."""
-        if self.law in LAW_CRITERIA:
-            return LAW_CRITERIA[self.law]
-        return (DEFAULT_LAW_CRITERION[self.engine],)
+        if self.keyword is not None:
+            return (KEYWORDS[self.keyword].criterion,)
+        return LAW_CRITERIA[self.law]
 
     @property
     def name(self) -> str:
@@ -174,7 +181,7 @@ class RunSpec:
         returns to zero, with a margin for the engines' own errors and for the default laws),
         and some free flight. A clipped run flies freely after F0 and is over sooner than the
         tail's x0 end (at K = 5: 5.9 against 14.7 in units of delta_e / V)."""
-        clipped = self.law == "viscoelastic_clipped" or (self.law == "default" and self.aligned_end == "F0")
+        clipped = self.law == "viscoelastic_clipped" or (self.keyword is not None and self.aligned_end == "F0")
         tau = self._reference_time("F0 return" if clipped else "x0")
         if tau is None:  # K > 10: the solver's largest K, a lower bound of the contact's length
             tau = solve_collision(10.0)["tau_0"]
@@ -196,7 +203,7 @@ class RunSpec:
         state = self.initial_state()
         X = abs(state["x1"]) + abs(state.get("x2", 0.0))
         r = self._reference_row()
-        x_max = r["x_max"] if r is not None and (self.K > 0 or self.law == "default") else 1.0
+        x_max = r["x_max"] if r is not None and (self.K > 0 or self.keyword is not None) else 1.0
         return math.sqrt(self.steps()) * UNIT_ROUNDOFF * X / (x_max * self.scales["delta_e"])
 
     def initial_velocities(self) -> tuple[float, float]:

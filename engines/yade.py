@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from contact_model.keywords import KEYWORDS
 from records.files import file_sha256
 
 from .codes import code
@@ -33,10 +34,13 @@ def job_entry(spec: RunSpec, out: Path) -> dict:
     params = code("yade").contact_parameters(p)
     entry = {"name": spec.name, "geometry": p.geometry, "law": spec.law, "out": str(out),
              **spec.initial_state(), "M": p.M, "young": params["young"], "c": params["c"]}
-    if spec.law == "default":
+    if spec.keyword == "yade:en":
         # Out of the box: the user asks Ip2_FrictMat_FrictMat_MindlinPhys for the restitution
         # coefficient itself (YADE turns en into betan with Thornton et al.'s 2013 fit).
         entry["en"] = spec.matched_restitution
+    elif spec.keyword == "yade:betan":
+        # The damping ratio itself: the one its en would compute (contact_model.keywords).
+        entry["betan"] = KEYWORDS[spec.keyword].told_for(spec.matched_restitution)
     return entry
 
 

@@ -21,8 +21,9 @@ import numpy as np
 import pandas as pd
 
 from contact_model import GATED_LAWS, MODEL_LAWS
+from contact_model.laws import KEYWORD_LAWS
 from contact_model.keywords import KEYWORDS, promised_restitution
-from engines.codes import CODES, integrators
+from engines.codes import CODES, integrators, keyword_of
 from records.files import write_atomically
 from reference import FIRST_ORDER, HERTZ_TAU
 
@@ -96,8 +97,8 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
                            f"{integrators(raw.engine)} are one "
                            "discrete map on positions and half-step velocities, which damps with the velocity half a "
                            "step old and is first-order in dt.")
-    out += [_keyword_finding(build, group) for build, group in
-            table[(table.law == "default") & (table.dt == 0)].groupby("build", sort=False)]
+    out += [_keyword_finding(build, group) for (build, _), group in
+            table[table.law.isin(KEYWORD_LAWS) & (table.dt == 0)].groupby(["build", "law"], sort=False)]
     x0 = table[(table.criterion == "x0") & table.law.isin(MODEL_LAWS)]
     if len(x0):
         i = x0.K.idxmax()
@@ -179,7 +180,7 @@ def _keyword_section(limits: pd.DataFrame, builds) -> list[str]:
 
     rows = []
     for r in limits.itertuples():
-        keyword = KEYWORDS[CODES[r.engine].keyword]
+        keyword = KEYWORDS[keyword_of(r.law, r.engine)]
         told = float(r.matched_restitution)
         own = promised_restitution(keyword.name, told)
         model = solve_collision(float(r.K))[f"eps_{r.criterion}"] if 0 < r.K <= 10 else math.nan
@@ -190,16 +191,17 @@ def _keyword_section(limits: pd.DataFrame, builds) -> list[str]:
     table = pd.DataFrame(rows)
     order = build_order(builds, table)
     table = table.iloc[np.lexsort((table.K.to_numpy(), [order.index(b) for b in table.build]))]
-    keywords = [KEYWORDS[CODES[e].keyword] for e in dict.fromkeys(limits.engine)]
+    keywords = [KEYWORDS[keyword_of(law, e)] for law, e in dict.fromkeys(zip(limits.law, limits.engine))]
     defects = {k.name: k.known_defect for k in keywords if k.known_defect}
     return ["## The engines' restitution keywords: their own equation, their promise", "",
             "What a user runs: each code's own damping keyword told a restitution coefficient e "
             "(docs/keywords.md). Each is gated against the equation its code computes, "
             "x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 with b from e by the code's own map (the law `default` of "
-            "the matrix: ladders extrapolated to dt -> 0 against that equation's closed form); what that "
-            "equation restitutes against e is the keyword's promise, reported, not gated. The keywords are told "
-            "the viscoelastic model's eps at one K (config default_law_match_K), or a case's own `restitution:`; "
-            "the last column is the model's eps at the run's own K, the physics the keyword stands in for.", "",
+            "the matrix, and the keyword laws beside it: ladders extrapolated to dt -> 0 against that equation's "
+            "closed form); what that equation restitutes against e is the keyword's promise, reported, not gated. "
+            "The keywords are told the viscoelastic model's eps at one K (config default_law_match_K) under the "
+            "criterion the keyword's force allows, or a case's own `restitution:`; the last column is the model's "
+            "eps at the run's own K, the physics the keyword stands in for.", "",
             _md_table(table, ".6g"), "",
             *[f"- Known defect of `{name}`: {text}." for name, text in defects.items()], ""]
 
@@ -208,7 +210,7 @@ def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
     """What a build's restitution keyword did: its own equation at dt -> 0 (the gate), what that
     equation restitutes when told e (its promise; contact_model.keywords), and its known defect."""
     engine = limits.engine.iloc[0]
-    keyword = KEYWORDS[CODES[engine].keyword]
+    keyword = KEYWORDS[keyword_of(limits.law.iloc[0], engine)]
     told = float(limits.matched_restitution.dropna().iloc[0]) if limits.matched_restitution.notna().any() else math.nan
     worst = float(limits[[f"err_{q}" for q in GATED_QUANTITIES]].abs().max().max())
     own = promised_restitution(keyword.name, told) if math.isfinite(told) else math.nan
@@ -303,8 +305,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                       "removes (`rungs_T`, `rungs_A`, `rungs_eps` of the ladder's limit row in summary.csv).", "",
                       "![ladders](plots/ladders.png)", ""]
     lines += map_section(ladder_runs, builds)
-    if has_rows and (table.law == "default").any():
-        lines += _keyword_section(table[table.law == "default"], builds)
+    if has_rows and table.law.isin(KEYWORD_LAWS).any():
+        lines += _keyword_section(table[table.law.isin(KEYWORD_LAWS)], builds)
     if series_cmp is not None:
         pub = series_cmp.dropna(subset=["paper"])
         lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",

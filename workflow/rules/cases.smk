@@ -166,3 +166,6 @@ try:
     finish_build_checks(BUILDS, _BUILD_CHECKS)
 except BuildError as err:
     SETUP_PROBLEMS.append(str(err))
+# A keyword law runs only in the builds whose release has the keyword (their version banners).
+_BANNERS = {b: f.result() for b, f in _BUILD_CHECKS.items() if f.exception() is None}
+PLANS = {stem: without_missing_keywords(listing, _BANNERS) for stem, listing in PLANS.items()}

@@ -106,7 +106,7 @@ def run_one(sim, k, run):
     if not two:
         sim.setParticleNonDynamic(tag_b)  # takes a tag, not an id
     group = "run%d" % k
-    if run["law"] == "default":
+    if "en" in run:  # its restitution keyword
         prms = HertzMindlinViscoPrms(name=group, youngsModulus=run["E"], poissonsRatio=0.0, dynamicMu=0.0,
                                      restitution=run["en"])
     else:

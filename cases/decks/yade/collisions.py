@@ -52,8 +52,10 @@ def build(run):
         O.bodies[b].state.vel = (run["v2"], 0, 0)
     else:
         b = O.bodies.append(utils.wall(0.0, axis=0, sense=-1, material=mat))
-    if run["law"] == "default":
+    if "en" in run:  # its restitution keyword
         ip2 = Ip2_FrictMat_FrictMat_MindlinPhys(en=MatchMaker(algo="val", val=run["en"]))
+    elif "betan" in run:  # its damping ratio
+        ip2 = Ip2_FrictMat_FrictMat_MindlinPhys(betan=MatchMaker(algo="val", val=run["betan"]))
     else:
         ip2 = Ip2_FrictMat_FrictMat_MindlinPhys()  # betan unset: no built-in damping
     O.engines = [
@@ -81,7 +83,7 @@ def after_contact_forces():
     else:
         overlap = run["R1"] + A.pos[0]
         rate_half = A.vel[0]
-    if overlap > 0 and run["law"] != "default":
+    if overlap > 0 and "en" not in run and "betan" not in run:  # a keyword damps by itself
         f_d = run["c"] * math.sqrt(overlap) * rate_half
         if run["law"] == "viscoelastic_clipped" and O.interactions.has(a, b):
             f_el = O.interactions[a, b].phys.kno * overlap ** 1.5
