@@ -54,7 +54,8 @@ def ladder_settings(ladder: dict | None) -> str:
     diss = ", ".join(f"T_e/{f:g}" for f in ladder["dissipative"])
     elastic = ", ".join(f"T_e/{f:g}" for f in ladder["elastic"])
     return (f"Ladders: the viscoelastic laws at dt = {diss} (each refined by sqrt(K) above K = 1), powers 1, 3/2, "
-            f"2 eliminated; the engines' keywords (`default` and the keyword laws) at dt = {diss}, powers 1, 5/4, 2; the elastic law at "
+            f"2 eliminated; the engines' keywords (`default` and the keyword laws) at dt = {diss}, powers 1, 5/4, 2; "
+            f"the elastic law at "
             f"dt = {elastic}, powers 2, 5/2 (`engines/ladder.py`). Every rung "
             "starts contact half a step after a sample and puts its singular end (x0 with the tail, F0 when "
             "clipped) a whole number of steps later.")
