@@ -1,0 +1,99 @@
+"""The recipe of contact_model/laws.py holds for every law of `LAW_REGISTRY`: `recipe_problems`
+checks each place a law must reach (its entry, the config schema, its keyword and its code's
+driver, the solution of its equation, the ladder's powers, the docs), so that a law that misses
+one fails naming it, and a dummy law added to the registry alone fails at every place."""
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+from contact_model import laws as laws_module
+from contact_model.keywords import KEYWORDS, keyword_reference
+from contact_model.laws import CRITERIA, DAMPING_POWER, LAW_REGISTRY, Law
+from engines.codes import CODES
+from engines.ladder import powers_of
+from reference import solve_collision
+
+ROOT = Path(__file__).resolve().parents[1]
+SCHEMA = yaml.safe_load((ROOT / "config" / "config.schema.yaml").read_text())
+DOCS = "\n".join(p.read_text() for p in (ROOT / "docs").glob("*.md"))
+
+
+def recipe_problems(law: Law) -> list[str]:
+    """Every place law `law` misses, one sentence each naming the place; empty when it follows
+    the recipe of contact_model/laws.py."""
+    problems = []
+
+    def check(place, condition, what):
+        if not condition:
+            problems.append(f"{place}: {what}")
+
+    # 1. Its entry: a known damping form, criteria the reference knows, an end among them.
+    check("contact_model/laws.py", law.damping in DAMPING_POWER, f"damping form {law.damping!r} is not known")
+    check("contact_model/laws.py", set(law.criteria) <= set(CRITERIA), f"criteria {law.criteria} not in {CRITERIA}")
+    check("contact_model/laws.py", law.aligned_end is None or law.aligned_end in law.criteria,
+          f"aligned end {law.aligned_end!r} is not one of its criteria")
+    check("contact_model/laws.py", law.told in ("eta", "none", "e"), f"told {law.told!r}")
+    # 2. The config schema lets a user name it.
+    check("config/config.schema.yaml", law.name in SCHEMA["properties"]["laws"]["items"]["enum"],
+          f"the enum of `laws` lacks {law.name!r}")
+    # 3. A keyword law: its keyword's entry (map, clip, source), its code, and that code's driver.
+    if law.keyword is not None:
+        keyword = KEYWORDS.get(law.keyword)
+        check("contact_model/keywords.py", keyword is not None, f"no keyword {law.keyword!r}")
+        if keyword is not None:
+            check("contact_model/keywords.py", keyword.form == "quarter" and keyword.coefficient is not None,
+                  f"{law.keyword} has no map to the x^(1/4) law's b that reference.quarter_power_damping solves")
+            check("contact_model/keywords.py", (keyword.criterion,) == law.criteria and keyword.clipped == law.clipped,
+                  f"{law.keyword} clips ({keyword.clipped}) where the law says {law.clipped}")
+            check("engines/codes.py", keyword.code in CODES, f"no engine code {keyword.code!r}")
+            driver = ROOT / "engines" / f"{keyword.code}.py"
+            check(f"engines/{keyword.code}.py", driver.exists() and law.keyword in driver.read_text(),
+                  f"the driver does not translate {law.keyword}")
+            check("docs/keywords.md", keyword.written.split(" ")[-1].split("(")[0] in DOCS,
+                  f"the docs do not describe {keyword.written}")
+    # 4. The solution of its equation, and the ladder's powers of its error.
+    try:
+        if law.keyword is not None:
+            row = keyword_reference(law.keyword, 0.8)
+        elif law.is_keyword:  # each code's own keyword (law `default`): solved per keyword
+            row = keyword_reference(CODES["lammps"].keyword, 0.8)
+        else:
+            row = solve_collision(0.0 if law.damping == "none" else 0.1)
+        ok = all(math.isfinite(row[k]) for k in ("x_max", "tau_0", "tau_f", "eps_x0", "eps_F0"))
+    except (KeyError, ValueError, TypeError):
+        ok = False
+    check("reference/", ok, f"no solution of {law.name}'s equation")
+    try:
+        check("engines/ladder.py", len(powers_of(0.0 if law.damping == "none" else 1.0, law.name)) >= 3,
+              f"fewer than three powers for {law.name}'s ladders")
+    except KeyError:
+        problems.append(f"engines/ladder.py: no powers for {law.name}")
+    # 5. A reader finds it.
+    check("docs/", f"`{law.name}`" in DOCS, f"no doc names the law `{law.name}`")
+    return problems
+
+
+@pytest.mark.parametrize("name", list(LAW_REGISTRY))
+def test_every_law_follows_the_recipe(name):
+    assert recipe_problems(LAW_REGISTRY[name]) == []
+
+
+def test_a_law_added_to_the_registry_alone_fails_at_every_place(monkeypatch):
+    dummy = Law("dummy", "a law nobody wrote", "cubic", True, ("F1",), "F1", False, keyword="nowhere:dummy",
+                told="e")
+    monkeypatch.setitem(laws_module.LAW_REGISTRY, "dummy", dummy)
+    places = {p.split(":")[0] for p in recipe_problems(dummy)}
+    assert places == {"contact_model/laws.py", "config/config.schema.yaml", "contact_model/keywords.py",
+                      "reference/", "docs/"}, recipe_problems(dummy)
+
+
+def test_the_derived_tuples_are_the_registry():
+    assert laws_module.LAWS == tuple(LAW_REGISTRY)
+    assert set(laws_module.MODEL_LAWS) == {"viscoelastic", "viscoelastic_clipped", "elastic"}
+    assert set(laws_module.KEYWORD_LAWS) == {"default", "betan", "coeff_restitution"}
+    assert laws_module.LAW_CRITERIA["viscoelastic"] == ("x0", "F0")
+    with pytest.raises(ValueError, match="unknown contact law 'viscoelastik'; known: viscoelastic"):
+        laws_module.law("viscoelastik")
