@@ -9,7 +9,10 @@ x = delta/delta_e, tau = t V/delta_e (delta_e = (15 M* V^2 / (16 E* sqrt(R*)))^{
   (`reference.quarter_power_damping` solves it in closed form);
 - ``half``: x'' + K x^{1/2} x' + (5/4) x^{3/2} = 0 (Kuwabara-Kono / Brilliantov), K growing as
   V^{1/5}: the study's viscoelastic law (`reference.collision_ode`);
-- ``velocity``: x'' + c x' + (5/4) x^{3/2} = 0, c falling as V^{-1/5};
+- ``velocity``: x'' + c x' + (5/4) x^{3/2} = 0, c falling as V^{-1/5} at a fixed coefficient
+  (LAMMPS ``damping velocity`` and ``mass_velocity``; `reference.linear_damping`): the user
+  gives eta_n, not a restitution, and the study tells it the eta_n that restitutes e at the run's
+  velocity (x0);
 
 with the total force clipped at zero where the code clips it. `KEYWORDS` holds each keyword's
 form, its map from the user's input to the coefficient exactly as the code computes it (read from
@@ -30,6 +33,7 @@ after damage starts) damp by hysteresis, not by a dashpot.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Callable
@@ -142,10 +146,25 @@ class Keyword:
         return "F0" if self.clipped else "x0"
 
     def b(self, told: float) -> float:
-        """The coefficient b of x'' + b x^{1/4} x' + (5/4) x^{3/2} = 0 for the told value."""
+        """The coefficient of its equation for the told value: b of x'' + b x^{1/4} x' + (5/4)
+        x^{3/2} = 0 (form 'quarter'), c of x'' + c x' + (5/4) x^{3/2} = 0 (form 'velocity', told
+        the dimensionless c itself: its code's eta_n is c M* V / delta_e or c V / delta_e)."""
         if self.coefficient is None:
-            raise ValueError(f"{self.name} is not a restitution keyword of the x^(1/4) form")
+            raise ValueError(f"{self.name} has no map to the coefficient of its equation")
         return self.coefficient(told)
+
+
+def _identity(c: float) -> float:
+    return c
+
+
+@functools.lru_cache(maxsize=256)
+def _dashpot_for_restitution(e: float) -> float:
+    """The linear dashpot's c that restitutes e under x0 (`reference.linear_damping`): what the
+    study tells `damping velocity` and `mass_velocity`, as eta_n at each run's velocity."""
+    from reference.linear_damping import damping_for_restitution_linear
+
+    return damping_for_restitution_linear(e, "x0")
 
 
 _TSUJI_DEFECT = ("LAMMPS applies Tsuji's alpha(e), fitted with the particle's mass, to the reduced mass M* "
@@ -167,6 +186,16 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
     Keyword("lammps:coeff_restitution", "lammps", "pair_style granular hertz/material E e nu damping coeff_restitution",
             "quarter", False, "e", lambda e: 2.5 * log_beta(e), "29 Aug 2024 ... (not in 29 Sep 2021)",
             "src/GRANULAR/gran_sub_mod_damping.cpp:161-185 @stable_29Aug2024 (PR #4068)", since=(2024, 8, 29)),
+    Keyword("lammps:velocity", "lammps", "pair_style granular hertz/material E eta_n nu damping velocity", "velocity",
+            False, "eta", _identity, "29 Sep 2021 ... 22 Jul 2025",
+            "src/GRANULAR/pair_granular.cpp:363-364, 373-374 @stable_29Sep2021_update2 (damp_normal = 1: F_d = -eta_n "
+            "d(delta)/dt); gran_sub_mod_damping.cpp:46, 79 @stable_29Aug2024", accepts=(0.0, math.inf),
+            from_restitution=_dashpot_for_restitution),
+    Keyword("lammps:mass_velocity", "lammps", "pair_style granular hertz/material E eta_n nu damping mass_velocity",
+            "velocity", False, "eta", _identity, "29 Sep 2021 ... 22 Jul 2025",
+            "src/GRANULAR/pair_granular.cpp:365-366 @stable_29Sep2021_update2 (damp_normal = meff: F_d = -eta_n M* "
+            "d(delta)/dt); gran_sub_mod_damping.cpp:96 @stable_29Aug2024", accepts=(0.0, math.inf),
+            from_restitution=_dashpot_for_restitution),
     Keyword("yade:en", "yade", "Ip2_FrictMat_FrictMat_MindlinPhys(en=e)", "quarter", True, "e",
             lambda e: ROOT_15_2 * thornton_beta(e), "2023.02a",
             "pkg/dem/HertzMindlin.cpp:76-104 (Thornton 2013 (B6)), :352-356 (c_n = 2 beta_n sqrt(m k_n)), "
@@ -192,9 +221,13 @@ def promised_restitution(keyword: str, e: float) -> float:
     """What `keyword`'s own equation restitutes when asked for `e` (told `Keyword.told_for(e)`),
     exactly, under the criterion its force allows (`Keyword.criterion`); its promise error is
     this minus e."""
+    k = KEYWORDS[keyword]
+    if k.form == "velocity":
+        from reference.linear_damping import restitution_linear_damping
+
+        return restitution_linear_damping(k.b(k.told_for(e)), k.criterion)
     from reference.quarter_power_damping import restitution_quarter_power
 
-    k = KEYWORDS[keyword]
     return restitution_quarter_power(k.b(k.told_for(e)), k.criterion)
 
 
@@ -228,12 +261,24 @@ def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
     the run's viscoelastic K (its name and plots place it by it), the keyword's b, and tau_return:
     where the overlap of a clipped run returns to zero in free flight after the force vanished
     (x^{5/4} = (4b/5) eps_F0 there), the length its engine run must cover."""
+    return {**_own_row(keyword, float(told)), "K": float(K)}
+
+
+@functools.lru_cache(maxsize=256)
+def _own_row(keyword: str, told: float) -> dict:
+    """`keyword_reference` without K, once per (keyword, told): a plan asks for it at every
+    velocity, and a dashpot's c is a root-find of ~50 solves."""
     from reference.quarter_power_damping import solve_quarter_power
 
     k = KEYWORDS[keyword]
+    if k.form == "velocity":  # the tail kept: the run ends with the overlap's return (x0)
+        from reference.linear_damping import solve_linear_damping
+
+        row = solve_linear_damping(k.b(k.told_for(told)))
+        return {**row, "b": row["c"], "tau_return": row["tau_0"]}
     row = solve_quarter_power(k.b(k.told_for(told)))
     x_f = (0.8 * row["b"] * row["eps_F0"]) ** 0.8
-    return {**row, "K": float(K), "tau_return": row["tau_f"] + (x_f / row["eps_F0"] if row["eps_F0"] > 0 else 0.0)}
+    return {**row, "tau_return": row["tau_f"] + (x_f / row["eps_F0"] if row["eps_F0"] > 0 else 0.0)}
 
 
 def restitution_keywords() -> list[str]:

@@ -13,6 +13,9 @@ family it is (`Law.damping`):
 - ``quarter`` (p = 1/4, c = b): Tsuji's form, what the engines' restitution keywords compute, b a
   function of the restitution told (`contact_model.keywords`; closed form:
   `reference.quarter_power_damping`); the restitution is the same at every velocity;
+- ``velocity`` (p = 0, c): a linear dashpot (LAMMPS ``damping velocity`` and ``mass_velocity``;
+  `reference.linear_damping`); at a fixed coefficient c falls as V^{-1/5}, so the restitution
+  rises with velocity;
 - ``none``: Hertz alone (c = 0; T, A and eps = 1 in closed form);
 - ``keyword``: whatever a code's out-of-the-box keyword computes (law ``default``: the keyword of
   each code, `engines.codes` ``keyword``).
@@ -25,8 +28,9 @@ The laws:
 - ``elastic``: Hertz alone (the one law every code can express);
 - ``default``: each code's own restitution keyword, told a restitution, gated against its own
   equation; its promise (what it restitutes against what it was told) reported beside it;
-- ``betan``, ``coeff_restitution``: a keyword that is not its code's default, run as a law of its
-  own (`Law.keyword`), gated the same way.
+- ``betan``, ``coeff_restitution``, ``velocity``, ``mass_velocity``: a keyword that is not its
+  code's default, run as a law of its own (`Law.keyword`), gated the same way; the two linear
+  dashpots are told the eta_n that restitutes the same e at the run's velocity.
 
 A criterion is where a collision ends (reference.series): `x0` when the overlap returns to zero,
 `F0` when the force does. The geometries are `contact_pair.GEOMETRIES`.
@@ -43,7 +47,7 @@ from dataclasses import dataclass
 from reference.series import CRITERIA
 
 #: The damping forms (the power p of x^p x'); 'keyword': each code's own.
-DAMPING_POWER = {"half": 0.5, "quarter": 0.25, "none": None, "keyword": None}
+DAMPING_POWER = {"half": 0.5, "quarter": 0.25, "velocity": 0.0, "none": None, "keyword": None}
 
 
 @dataclass(frozen=True)
@@ -106,6 +110,10 @@ LAW_REGISTRY: dict[str, Law] = {law.name: law for law in (
         "quarter", True, ("F0",), "F0", False, keyword="yade:betan", told="e"),
     Law("coeff_restitution", "LAMMPS's hertz/material with damping coeff_restitution, against its own equation",
         "quarter", False, ("x0",), "x0", False, keyword="lammps:coeff_restitution", told="e"),
+    Law("velocity", "LAMMPS's hertz/material with damping velocity (F_d = -eta_n d(delta)/dt), against its own "
+        "equation", "velocity", False, ("x0",), "x0", False, keyword="lammps:velocity", told="e"),
+    Law("mass_velocity", "LAMMPS's hertz/material with damping mass_velocity (F_d = -eta_n M* d(delta)/dt), against "
+        "its own equation", "velocity", False, ("x0",), "x0", False, keyword="lammps:mass_velocity", told="e"),
 )}
 
 LAWS = tuple(LAW_REGISTRY)

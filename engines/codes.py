@@ -271,5 +271,5 @@ def law_unavailable(code_name: str, law_name: str) -> str | None:
     entry = law(law_name)
     if entry.keyword is not None and KEYWORDS[entry.keyword].code != code_name:
         k = KEYWORDS[entry.keyword]
-        return f"{k.written} is a keyword of {code(k.code).title}, not of {code(code_name).title}"
+        return f"a keyword of {code(k.code).title} alone ({k.written})"
     return code(code_name).unavailable.get(law_name)

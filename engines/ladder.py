@@ -71,6 +71,10 @@ START_PHASE = 0.5
 DISSIPATIVE_POWERS = (1.0, 1.5, 2.0, 2.5, 3.0)
 ELASTIC_POWERS = (2.0, 2.5, 3.5, 4.0)
 QUARTER_POWERS = (1.0, 1.25, 2.0, 2.25, 2.5)
+#: A linear dashpot (LAMMPS `damping velocity`, `mass_velocity`) acts at once: its force jumps to
+#: c V at touching and from c x' to 0 at the x0 end, steps of a smooth force, so the expansion is
+#: in whole powers of h plus Hertz's h^{5/2} (tests/test_engine_keywords.py).
+LINEAR_POWERS = (1.0, 2.0, 2.5, 3.0)
 #: Fewest steps a contact may take at a rung (T_e/10, the coarsest production step of the
 #: convergence study, gives about 10): the event detections use stencils of up to five samples.
 MIN_CONTACT_STEPS = 8
@@ -87,6 +91,8 @@ def powers_of(eta: float, law: str = "viscoelastic") -> tuple[float, ...]:
     """The powers of h in the error expansion of a run of `law` with viscosity `eta`: an
     engine's keyword's (`contact_model.laws`, all of the x^{1/4} form), else elastic for eta = 0,
     else the viscoelastic law's."""
+    if LAW_REGISTRY[law].damping == "velocity":
+        return LINEAR_POWERS
     if LAW_REGISTRY[law].is_keyword:
         return QUARTER_POWERS
     return ELASTIC_POWERS if eta == 0 else DISSIPATIVE_POWERS

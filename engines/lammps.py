@@ -25,6 +25,7 @@ from pathlib import Path
 
 from contact_model import Body, ContactPair
 from contact_model.collision_scales import viscosity_for_dissipation
+from contact_model.keywords import KEYWORDS
 
 from .codes import code
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
@@ -45,7 +46,21 @@ def deck_files(spec: RunSpec) -> list[str]:
 
 
 #: The damping words of LAMMPS's restitution keywords (contact_model.keywords).
-DAMPING_OF_KEYWORD = {"lammps:tsuji": "tsuji", "lammps:coeff_restitution": "coeff_restitution"}
+DAMPING_OF_KEYWORD = {"lammps:tsuji": "tsuji", "lammps:coeff_restitution": "coeff_restitution",
+                      "lammps:velocity": "velocity", "lammps:mass_velocity": "mass_velocity"}
+
+
+def damping_coefficient(spec: RunSpec) -> float:
+    """The number after E in `hertz/material E _ nu`: the restitution e for the restitution
+    keywords; for the linear dashpots the eta_n that restitutes e at this run's velocity, from the
+    dashpot's c of the run's reference row (contact_model.keywords.keyword_reference): c M* V /
+    delta_e [N s/m] for `velocity`, c V / delta_e [1/s] for `mass_velocity`."""
+    if spec.keyword not in ("lammps:velocity", "lammps:mass_velocity"):
+        return spec.matched_restitution
+    c = spec.reference["c"] if spec.reference and "c" in spec.reference else KEYWORDS[spec.keyword].told_for(
+        spec.matched_restitution)
+    rate = c * spec.velocity / spec.scales["delta_e"]
+    return rate * spec.pair.M if spec.keyword == "lammps:velocity" else rate
 
 
 def model_words(spec: RunSpec) -> str:
@@ -54,7 +69,7 @@ def model_words(spec: RunSpec) -> str:
     if spec.keyword is not None:
         # hertz/material E e nu with a restitution damping: e is read as the restitution
         # coefficient. nu = 0 on both sides makes E* = E/2, and also sidesteps the wall's 1 - nu defect.
-        return (f"hertz/material {number(2.0 * p.E)} {number(spec.matched_restitution)} 0.0 "
+        return (f"hertz/material {number(2.0 * p.E)} {number(damping_coefficient(spec))} 0.0 "
                 f"damping {DAMPING_OF_KEYWORD[spec.keyword]} {TANGENTIAL}")
     params = code("lammps").contact_parameters(p)
     words = f"hertz {number(params['kn'])} {number(params['eta_n0'])} damping viscoelastic {TANGENTIAL}"

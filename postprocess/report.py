@@ -214,8 +214,14 @@ def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
     told = float(limits.matched_restitution.dropna().iloc[0]) if limits.matched_restitution.notna().any() else math.nan
     worst = float(limits[[f"err_{q}" for q in GATED_QUANTITIES]].abs().max().max())
     own = promised_restitution(keyword.name, told) if math.isfinite(told) else math.nan
+    if keyword.form == "velocity":  # a dashpot told the eta_n of e by the study: no promise of its own
+        c = keyword.b(keyword.told_for(told))
+        return (f"{build}'s {keyword.written} computes its own equation, x'' + c x' + (5/4) x^(3/2) = 0 (c = {c:.6g}, "
+                f"the eta_n the study computes to restitute e = {told:.4f} at each run's velocity), to {worst:.1e} at "
+                "dt -> 0; at a fixed eta_n its c falls as V^(-1/5), so its restitution rises with the velocity.")
     text = (f"{build}'s {keyword.written} computes its own equation, x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 "
-            f"(b = {keyword.b(told):.6g} told e = {told:.4f}{', the force clipped' if keyword.clipped else ''}), to "
+            f"(b = {keyword.b(keyword.told_for(told)):.6g} told e = {told:.4f}"
+            f"{', the force clipped' if keyword.clipped else ''}), to "
             f"{worst:.1e} at dt -> 0; that equation restitutes {own:.6f} ({keyword.criterion}): its promise is off "
             f"by {own - told:+.2e}.")
     return text + (f" Known upstream: {keyword.known_defect}." if keyword.known_defect else "")

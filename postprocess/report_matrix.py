@@ -212,11 +212,20 @@ def supplied_footnotes(cells: pd.DataFrame, supplied: Mapping[str, Mapping[str, 
 
 def na_footnotes(cells: pd.DataFrame) -> dict[tuple[str, str], int]:
     """{(engine code, reason): footnote number} of the n/a cells, numbered from 1 in the order
-    of the matrix (one note per code and reason, however many cells share it)."""
+    of the matrix (one note per reason, however many cells and codes share it)."""
     notes: dict[tuple[str, str], int] = {}
+    numbers: dict[str, int] = {}
     for r in cells[cells.status == "n/a"].itertuples() if len(cells) else ():
-        notes.setdefault((r.engine, r.reason), len(notes) + 1)
+        notes.setdefault((r.engine, r.reason), numbers.setdefault(r.reason, len(numbers) + 1))
     return notes
+
+
+def na_note_lines(notes: dict[tuple[str, str], int]) -> list[tuple[int, str, str]]:
+    """(number, 'code, code', reason) of each footnote of `na_footnotes`, in order."""
+    by_number: dict[int, tuple[list[str], str]] = {}
+    for (code, reason), n in notes.items():
+        by_number.setdefault(n, ([], reason))[0].append(code)
+    return [(n, ", ".join(codes), reason) for n, (codes, reason) in sorted(by_number.items())]
 
 
 def cell_title(cell) -> str:
@@ -281,7 +290,7 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
     lines += ["", legend(tolerance, na=bool(notes), none=has_none), ""]
     if notes:
         lines += ["Not available (the build's code cannot express the law; nothing is run, nothing is gated):", ""]
-        lines += [f"{n}. {code}: {md_text(reason)}" for (code, reason), n in notes.items()] + [""]
+        lines += [f"{n}. {codes}: {md_text(reason)}" for n, codes, reason in na_note_lines(notes)] + [""]
     if marks:
         lines += ["Supplied by the study, not the engine (the cells marked †):", ""]
         lines += [f"- {mark} {code}, {law}: {md_text(supplied[code][law])}" for (code, law), mark in marks.items()]

@@ -44,8 +44,12 @@ def recipe_problems(law: Law) -> list[str]:
         keyword = KEYWORDS.get(law.keyword)
         check("contact_model/keywords.py", keyword is not None, f"no keyword {law.keyword!r}")
         if keyword is not None:
-            check("contact_model/keywords.py", keyword.form == "quarter" and keyword.coefficient is not None,
-                  f"{law.keyword} has no map to the x^(1/4) law's b that reference.quarter_power_damping solves")
+            check("contact_model/keywords.py",
+                  keyword.form in ("quarter", "velocity") and keyword.coefficient is not None,
+                  f"{law.keyword} has no map to the coefficient of an equation reference solves (x^(1/4) form: "
+                  "reference.quarter_power_damping; linear dashpot: reference.linear_damping)")
+            check("contact_model/laws.py", keyword.form == law.damping or law.damping == "keyword",
+                  f"{law.keyword} is of form {keyword.form!r}, the law says {law.damping!r}")
             check("contact_model/keywords.py", (keyword.criterion,) == law.criteria and keyword.clipped == law.clipped,
                   f"{law.keyword} clips ({keyword.clipped}) where the law says {law.clipped}")
             check("engines/codes.py", keyword.code in CODES, f"no engine code {keyword.code!r}")
@@ -93,7 +97,7 @@ def test_a_law_added_to_the_registry_alone_fails_at_every_place(monkeypatch):
 def test_the_derived_tuples_are_the_registry():
     assert laws_module.LAWS == tuple(LAW_REGISTRY)
     assert set(laws_module.MODEL_LAWS) == {"viscoelastic", "viscoelastic_clipped", "elastic"}
-    assert set(laws_module.KEYWORD_LAWS) == {"default", "betan", "coeff_restitution"}
+    assert set(laws_module.KEYWORD_LAWS) == {"default", "betan", "coeff_restitution", "velocity", "mass_velocity"}
     assert laws_module.LAW_CRITERIA["viscoelastic"] == ("x0", "F0")
     with pytest.raises(ValueError, match="unknown contact law 'viscoelastik'; known: viscoelastic"):
         laws_module.law("viscoelastik")
