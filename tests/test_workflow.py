@@ -212,6 +212,8 @@ def test_the_keywords_target_tabulates_each_keywords_promise_against_an_independ
     require_engine("lmp", "lammps")
     require_engine("liggghts", "liggghts")
     project = copy_workflow(tmp_path / "project")
+    (project / "cases" / "calibration").mkdir()
+    shutil.copy(ROOT / "cases" / "calibration" / "gugan_jaques_on_wood.csv", project / "cases" / "calibration")
     out = snakemake("-j2", "keywords", "--config",
                     "builds=[{id: lammps, code: lammps, executable: lmp}, {id: liggghts, code: liggghts, "
                     "executable: liggghts}]",
@@ -235,4 +237,10 @@ def test_the_keywords_target_tabulates_each_keywords_promise_against_an_independ
     assert table.loc[("lammps", 0.05)].err_promise == pytest.approx(0.125, abs=2e-3)
     summary = (project / "results" / "keywords" / "promise.md").read_text()
     assert "| lammps " in summary and (project / "results" / "keywords" / "promise.png").stat().st_size > 0
+    # Gugan's eps(V), falling with V: only the viscoelastic law follows it (R^2 >= 0.9 with its trend).
+    forms = pd.read_csv(project / "results" / "keywords" / "eps_of_velocity.csv").set_index(["form", "criterion"])
+    assert set(forms[forms.follows].index) == {("half", "F0"), ("half", "x0")}
+    assert forms.loc[("half", "F0"), "R2"] == pytest.approx(0.949, abs=1e-3)
+    assert forms.loc[("quarter", "any"), "value"] == pytest.approx(0.8207, abs=1e-4)  # the data's mean
+    assert "Follows: half (F0)" in summary and "neither can follow an eps that falls with V" in summary
     assert not (project / "results" / "verdict.json").exists()  # no verdict of the study is touched

@@ -6,11 +6,13 @@ from pathlib import Path
 import pandas as pd
 
 from common import log_to
+from contact_model.measurement_file import load_measurements
 from postprocess.keyword_promise import plot_promise, promise_summary
+from postprocess.restitution_of_velocity import FOLLOWS_R2, fit_forms, plot_forms
 from records.files import write_atomically
 
 log = log_to(snakemake.log[0])
-table = pd.concat([pd.read_csv(p) for p in snakemake.input], ignore_index=True)
+table = pd.concat([pd.read_csv(p) for p in snakemake.input.rows], ignore_index=True)
 table.to_csv(snakemake.output.csv, index=False, float_format="%.12g")
 summary = promise_summary(table)
 plot_promise(table, snakemake.output.png)
@@ -24,5 +26,37 @@ lines = ["# The engines' restitution keywords: what they deliver against what th
 if len(problems):
     lines += ["Not run (the code refuses that e) or failed:", "", *(f"- {r.build} e = {r.e_requested:g}: {r.problem}"
                                          for r in problems.itertuples()), ""]
+# Which damping form can follow a measured eps(V): each fitted to the measurements.
+if snakemake.input.measured:
+    data = load_measurements(snakemake.input.measured)
+    fits = fit_forms(data.velocity, data.restitution)
+    fits.to_csv(snakemake.output.forms, index=False, float_format="%.8g")
+    plot_forms(data.velocity, data.restitution, fits, snakemake.output.forms_png,
+               f"Each damping form fitted to {Path(data.path).name} ({len(data)} points)")
+    followers = fits[fits.follows]
+    lines += ["## Which keyword can follow a measured eps(V)?", "",
+              f"Each damping form's one coefficient fitted to `{data.path}` ({len(data)} points, "
+              f"{data.velocity.min():g} to {data.velocity.max():g} m/s; `eps_of_velocity.csv`). A form follows the "
+              f"measurements when it explains at least {FOLLOWS_R2:.0%} of their variation (R² >= {FOLLOWS_R2:g}) "
+              "with the measured trend.", "",
+              fits.drop(columns=["coefficient"]).to_markdown(index=False, floatfmt=".4g"), "",
+              ("Follows: " + "; ".join(f"{r.form} ({r.criterion}): {r.keywords}" for r in followers.itertuples())
+               if len(followers) else "No form follows these measurements.") + "."
+              + (" The restitution keywords give one eps at every velocity, and a linear dashpot's eps rises with V: "
+                 "neither can follow an eps that falls with V."
+                 if data.restitution[data.velocity.argmax()] < data.restitution[data.velocity.argmin()] else ""),
+              "", f"![eps(V)]({Path(snakemake.output.forms_png).name})", ""]
+else:  # nothing to fit: an empty table, and a figure that says so
+    pd.DataFrame(columns=["form", "criterion", "keywords", "coefficient", "value", "rms_residual",
+                          "max_abs_residual", "R2", "eps_at_V_min", "eps_at_V_max", "follows"]).to_csv(
+        snakemake.output.forms, index=False)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(6, 2))
+    fig.text(0.5, 0.5, "no measurements (config keywords.measured: null)", ha="center")
+    fig.savefig(snakemake.output.forms_png)
 write_atomically(snakemake.output.md, "\n".join(lines))
 log.info("promise table: %d rows, %d builds", len(table), table.build.nunique())
