@@ -4,6 +4,7 @@ A run gives one row per criterion it represents (see `engines.run_spec.RunSpec.r
 For criterion c the engine's values are
 
     T = T_c,  A = pi R* delta_max,  eps = eps_c,  Q1 = A^{1/2} T^2,  Q2 = A / (sqrt(V V') T), V' = eps V,
+    delta_max,  F_max   (postprocess.quantities),
 
 the reference values are the same from the ODE solution at the run's K (times the Hertz scales
 of the run), and the series values are the paper's truncated series (eqs. 4-7) times the same
@@ -18,8 +19,10 @@ from reference import HERTZ_TAU, paper_series_value, solve_collisions
 
 from records.collision_metrics import CollisionMetrics
 
-QUANTITIES = ("T", "A", "eps", "Q1", "Q2")
-_SERIES_NAME = {"T": "T/T_e", "A": "A/A_e", "eps": "eps", "Q1": "Q1/Q1e", "Q2": "Q2/Q2e"}
+from .quantities import QUANTITIES, characteristics
+
+#: The quantities of a summary row, in order (postprocess.quantities).
+QUANTITY_NAMES = tuple(QUANTITIES)
 
 
 def measured(T: float, A: float, eps: float, V: float) -> dict[str, float]:
@@ -42,15 +45,19 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
     r = reference_row or solve_collisions([K]).row(0)
     Qe = hertz_Q(T_e, A_e, V)
     scale = {"T": T_e, "A": A_e, "eps": 1.0, **Qe}
-    paper = {q: float(paper_series_value(_SERIES_NAME[q], K, series)) * scale[q] for q in QUANTITIES}
+    paper = {name: float(paper_series_value(q.series, K, series)) * scale[name] if q.series else math.nan
+             for name, q in QUANTITIES.items()}
+    delta_e = meta.get("delta_e", A_e / (math.pi * R))
+    F_e = meta["effective_mass"] * V**2 / delta_e if "effective_mass" in meta else math.nan
     rows = []
     for criterion in meta["represents"]:
         T_eng = m.T_x0 if criterion == "x0" else m.T_F0
         eps_eng = m.eps_x0 if criterion == "x0" else m.eps_F0
-        engine = measured(T_eng, math.pi * R * m.delta_max, eps_eng, V)
+        engine = characteristics(T_eng, m.delta_max, eps_eng, m.force_max, R, V)
         tau = r["tau_0"] if criterion == "x0" else r["tau_f"]
         eps_ref = r["eps_x0"] if criterion == "x0" else r["eps_F0"]
-        ref = measured(tau / HERTZ_TAU * T_e, r["x_max"] * A_e, eps_ref, V)
+        ref = characteristics(tau / HERTZ_TAU * T_e, r["x_max"] * delta_e, eps_ref, r.get("force_max", math.nan) * F_e,
+                              R, V)
         row = {
             "case": meta["case"], "build": meta.get("build", meta["engine"]), "engine": meta["engine"],
             "engine_version": meta["engine_version"],
@@ -68,9 +75,9 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
             row[f"{q}_ref"] = ref[q]
             row[f"{q}_series"] = paper[q]
         for q in QUANTITIES:
-            row[f"err_{q}"] = engine[q] / ref[q] - 1.0
+            row[f"err_{q}"] = engine[q] / ref[q] - 1.0 if ref[q] else math.nan
         for q in QUANTITIES:
-            row[f"series_err_{q}"] = paper[q] / ref[q] - 1.0
+            row[f"series_err_{q}"] = paper[q] / ref[q] - 1.0 if ref[q] else math.nan
         if "matched_restitution" in meta:
             row["matched_restitution"] = meta["matched_restitution"]
         rows.append(row)

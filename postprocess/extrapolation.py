@@ -37,8 +37,11 @@ from engines.ladder import (PHASE_TOLERANCE, RESOLUTION_FLOOR, START_PHASE, extr
                             phase_offset, powers_of)
 
 from .comparison import measured
+from .quantities import GATED_QUANTITIES
 
-GATED_QUANTITIES = ("T", "A", "eps")
+#: The quantities reported beside the gated ones, extrapolated the same way (no resolution,
+#: no gate): the maximum overlap and force of the physical-results table.
+REPORTED_LIMITS = ("delta_max", "F_max")
 #: Columns a limit row takes from its finest rung unchanged (the run's description).
 _DESCRIPTION = ["case", "build", "engine", "engine_version", "law", "geometry", "criterion", "V", "K", "T_e", "A_e",
                 "Q1e", "Q2e", "ladder", "eps_ref", "matched_restitution"]
@@ -99,6 +102,11 @@ def _limit_row(g: pd.DataFrame) -> dict:
         if f"map_err_{q}" in g.columns and g[f"map_err_{q}"].notna().any():
             on_map = g[f"map_err_{q}"].to_numpy(dtype=float)
             row[f"map_err_{q}"] = float(on_map[np.nanargmax(np.abs(on_map))])
+    for q in REPORTED_LIMITS:  # reported, not gated: the limit and the rungs alone
+        if f"err_{q}" in g.columns and g[f"err_{q}"].notna().all():
+            e = extrapolate(h, g[f"err_{q}"].to_numpy(dtype=float), powers)
+            row.update({f"{q}_ref": float(finest[f"{q}_ref"]), f"err_{q}": e.value,
+                        q: float(finest[f"{q}_ref"]) * (1.0 + e.value), f"estimate_{q}": e.estimate})
     # The engine's values in the limit, and Q1, Q2 (and their errors) from them.
     ref = {q: float(finest[f"{q}_ref"]) for q in ("T", "A", "eps", "Q1", "Q2")}
     engine = {q: ref[q] * (1.0 + limits[q]) for q in GATED_QUANTITIES}

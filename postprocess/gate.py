@@ -33,7 +33,8 @@ from contact_model import GATED_LAWS
 
 from records.files import write_atomically
 
-GATED_QUANTITIES = ("T", "A", "eps")
+from .quantities import GATED_QUANTITIES  # T, A, eps: the gated quantities
+
 GROUP = ["build", "law", "geometry", "criterion"]
 #: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
 #: or is reported only (an engine's regression cases, `regression_checks`). For the ladder with

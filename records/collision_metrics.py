@@ -1,4 +1,4 @@
-"""T, delta_max (hence A) and eps of one collision, from a sampled time series.
+"""T, delta_max (hence A), F_max and eps of one collision, from a sampled time series.
 
 Pure functions on arrays (time [s], overlap [m], normal_velocity d(delta)/dt [m/s],
 normal_force [N]); no engine and no file in sight.
@@ -23,7 +23,9 @@ a jitter that depends on where an event falls between two samples:
   overlap) ends the contact's dynamics: t_F0 is the zero of the cubic through the last four
   positive samples, extrapolated, and eps_F0 the exit velocity of the free flight that follows.
 - delta_max: the maximum of the quartic through the five samples around the largest (the sampled
-  maximum alone is off by ~(dt/T)^2).
+  maximum alone is off by ~(dt/T)^2); the force's maximum F_max the same way where it lies inside
+  the contact, the sample itself where it is the first or the last (a dashpot that acts at once,
+  LAMMPS's `damping velocity`, has its largest force at touching).
 - The phases of the start and of the x0 end on the step grid (fraction of a step after a
   sample), for the ladder's alignment check (`engines.ladder.PHASE_TOLERANCE`).
 """
@@ -64,6 +66,7 @@ class CollisionMetrics:
     samples_in_contact: int
     start_phase: float = math.nan
     end_phase: float = math.nan
+    force_max: float = math.nan
 
 
 def _cubic(t, y, t0):
@@ -109,6 +112,20 @@ def _f0_in_tail(t, i_s, i_x, drops):
     stencil = slice(a, a + CROSSING_POINTS)
     t0 = t[a]
     return stencil, t0, lo, hi
+
+
+def _peak(t, y, i_s, i_x, dt) -> tuple[float, float]:
+    """(value, time) of the maximum of y over the contact [i_s, i_x): the quartic through the five
+    samples around the largest, its maximum within a step of that sample."""
+    i_m = i_s + int(np.argmax(y[i_s:i_x]))
+    a = min(max(i_m - PEAK_POINTS // 2, i_s), i_x - PEAK_POINTS)
+    peak = slice(a, a + PEAK_POINTS)
+    t0 = t[i_m]
+    quartic = np.polyfit(t[peak] - t0, y[peak], PEAK_POINTS - 1)
+    candidates = [0.0] + [float(r.real) for r in np.roots(np.polyder(quartic))
+                          if abs(r.imag) <= 1e-12 * dt and abs(r.real) <= dt]
+    s_m = max(candidates, key=lambda s: np.polyval(quartic, s))
+    return float(np.polyval(quartic, s_m)), float(t0 + s_m)
 
 
 def collision_metrics(time, overlap, normal_velocity, normal_force, impact_velocity) -> CollisionMetrics:
@@ -171,16 +188,10 @@ def collision_metrics(time, overlap, normal_velocity, normal_force, impact_veloc
             t_f0 = lo if root is None else root
             eps_f0 = -float(np.polyval(_cubic(t[stencil], v[stencil], t0), t_f0 - t0)) / impact_velocity
 
-    i_m = i_s + int(np.argmax(d[contact]))
-    a = min(max(i_m - PEAK_POINTS // 2, i_s), i_x - PEAK_POINTS)
-    peak = slice(a, a + PEAK_POINTS)
-    t0 = t[i_m]
-    quartic = np.polyfit(t[peak] - t0, d[peak], PEAK_POINTS - 1)
-    candidates = [0.0] + [float(r.real) for r in np.roots(np.polyder(quartic))
-                          if abs(r.imag) <= 1e-12 * dt and abs(r.real) <= dt]
-    s_m = max(candidates, key=lambda s: np.polyval(quartic, s))
+    delta_max, t_max = _peak(t, d, i_s, i_x, dt)
+    force_max = _peak(t, f, i_s, i_x, dt)[0] if 0 < i_fmax - i_s and i_fmax < i_x - 1 else float(f[i_fmax])
     return CollisionMetrics(
-        t_start=float(t_s), delta_max=float(np.polyval(quartic, s_m)), t_max=float(t0 + s_m),
+        t_start=float(t_s), delta_max=delta_max, t_max=t_max, force_max=force_max,
         T_x0=float(t_x0 - t_s), eps_x0=float(eps_x0),
         T_F0=float(t_f0 - t_s), eps_F0=float(eps_f0), samples_in_contact=int(i_x - i_s),
         start_phase=_phase(t_s, t[0], dt), end_phase=_phase(t_x0, t[0], dt),

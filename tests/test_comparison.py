@@ -17,14 +17,15 @@ def meta_for(K=0.2, V=1.0, represents=("x0", "F0")):
     return {"case": "t", "engine": "liggghts", "engine_version": "x", "law": "viscoelastic",
             "geometry": pair.geometry, "represents": list(represents), "impact_velocity": V, "K": K,
             "time_step": s["T_e"] / 1000, "T_e": s["T_e"], "A_e": s["A_e"], "delta_e": s["delta_e"],
-            "effective_radius": pair.R}
+            "effective_radius": pair.R, "effective_mass": pair.M}
 
 
 def exact_metrics(meta):
     r = solve_collision(meta["K"])
     to_t = meta["delta_e"] / meta["impact_velocity"]
+    F_e = meta["effective_mass"] * meta["impact_velocity"] ** 2 / meta["delta_e"]
     return CollisionMetrics(0.0, r["x_max"] * meta["delta_e"], r["tau_max"] * to_t, r["tau_0"] * to_t,
-                            r["eps_x0"], r["tau_f"] * to_t, r["eps_F0"], 1000)
+                            r["eps_x0"], r["tau_f"] * to_t, r["eps_F0"], 1000, force_max=r["force_max"] * F_e)
 
 
 def test_exact_run_has_zero_error_under_both_criteria():
@@ -32,8 +33,10 @@ def test_exact_run_has_zero_error_under_both_criteria():
     rows = comparison_rows(meta, exact_metrics(meta))
     assert [r["criterion"] for r in rows] == ["x0", "F0"]
     for r in rows:
-        for q in ("T", "A", "eps", "Q1", "Q2"):
+        for q in ("T", "A", "eps", "Q1", "Q2", "delta_max", "F_max"):
             assert abs(r[f"err_{q}"]) < 1e-13, (r["criterion"], q)
+        # Hertz's scales: F_max [N] = force_max M* V^2 / delta_e, delta_max [m] = x_max delta_e
+        assert r["delta_max_ref"] == pytest.approx(r["A_ref"] / (math.pi * meta["effective_radius"]), rel=1e-15)
 
 
 def test_series_and_Q_scales():

@@ -1,0 +1,38 @@
+"""postprocess.quantities: one table of the quantities, each with what a reader and the gate need,
+and the Hertz closed forms of the elastic collision in SI through `characteristics`."""
+
+import math
+
+import pytest
+import yaml
+from pathlib import Path
+
+from postprocess.quantities import GATED_QUANTITIES, QUANTITIES, characteristics, readable
+from reference import solve_collision
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_every_quantity_has_its_unit_title_and_value_and_the_gated_ones_a_tolerance():
+    tolerance = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["tolerance"]
+    values = characteristics(1e-5, 1e-6, 0.9, 10.0, 0.01, 1.0)
+    for name, q in QUANTITIES.items():
+        assert q.title and q.unit and name in values and math.isfinite(values[name])
+        assert (name in tolerance) == q.gated, name
+    assert GATED_QUANTITIES == ("T", "A", "eps")
+
+
+def test_hertz_elastic_collision_in_si():
+    """Steel on steel at 1 m/s (E* = 1.1e11 Pa, R* = 5 mm, M* = 2.05 g): Hertz's closed forms,
+    t_c = 2.8683 (M*^2 / (R* E*^2 V))^(1/5), delta_max = (15 M* V^2 / (16 E* sqrt(R*)))^(2/5),
+    F_max = (4/3) E* sqrt(R*) delta_max^(3/2), against the dimensionless solution times the scales."""
+    E, R, M, V = 1.1e11, 5e-3, 2.05e-3, 1.0
+    delta_e = (15 * M * V**2 / (16 * E * math.sqrt(R))) ** 0.4
+    r = solve_collision(0.0)
+    q = characteristics(r["tau_0"] * delta_e / V, r["x_max"] * delta_e, r["eps_x0"], r["force_max"] * M * V**2 / delta_e,
+                        R, V)
+    assert q["T"] == pytest.approx(2.8683 * (M**2 / (R * E**2 * V)) ** 0.2, rel=2e-5)  # the constant's digits
+    assert q["delta_max"] == pytest.approx(delta_e, rel=1e-12)
+    assert q["F_max"] == pytest.approx(4 / 3 * E * math.sqrt(R) * delta_e**1.5, rel=1e-12)
+    assert q["A"] == pytest.approx(math.pi * R * delta_e, rel=1e-12)
+    assert readable("T", q["T"]).endswith(" µs") and readable("F_max", 2500.0) == "2.5 kN"
