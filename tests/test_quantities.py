@@ -29,8 +29,8 @@ def test_hertz_elastic_collision_in_si():
     E, R, M, V = 1.1e11, 5e-3, 2.05e-3, 1.0
     delta_e = (15 * M * V**2 / (16 * E * math.sqrt(R))) ** 0.4
     r = solve_collision(0.0)
-    q = characteristics(r["tau_0"] * delta_e / V, r["x_max"] * delta_e, r["eps_x0"], r["force_max"] * M * V**2 / delta_e,
-                        R, V)
+    F_e = M * V**2 / delta_e
+    q = characteristics(r["tau_0"] * delta_e / V, r["x_max"] * delta_e, r["eps_x0"], r["force_max"] * F_e, R, V)
     assert q["T"] == pytest.approx(2.8683 * (M**2 / (R * E**2 * V)) ** 0.2, rel=2e-5)  # the constant's digits
     assert q["delta_max"] == pytest.approx(delta_e, rel=1e-12)
     assert q["F_max"] == pytest.approx(4 / 3 * E * math.sqrt(R) * delta_e**1.5, rel=1e-12)
