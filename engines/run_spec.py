@@ -72,6 +72,12 @@ class RunSpec:
     #: The engine build (config `builds:`) that runs it; its id leads the run's name, so two
     #: builds of one code never collide. Empty: the code's name (a build named as its code).
     build: str = ""
+    #: Where contact starts on the step grid (a fraction of a step after a sample): the ladders'
+    #: START_PHASE; the advisor's checks (tests/test_engine_timestep.py) run others.
+    start_phase: float = START_PHASE
+    #: False: dt is exactly T_e / time_step_factor, not moved to align the contact's end (a
+    #: production step, as a user runs it).
+    aligned: bool = True
 
     def __post_init__(self):
         if not self.build:
@@ -107,7 +113,7 @@ class RunSpec:
         with the start at START_PHASE, the end then falls at the same phase at every time step
         of a ladder. Unaligned (exactly T_e / factor) where the reference is not solved (K > 10)."""
         T_e = self.scales["T_e"]
-        tau = self._reference_time(self.aligned_end)
+        tau = self._reference_time(self.aligned_end) if self.aligned else None
         if tau is None:
             return T_e / self.time_step_factor
         return aligned_time_step(tau / HERTZ_TAU * T_e, T_e, self.time_step_factor)
@@ -167,6 +173,8 @@ class RunSpec:
 
     def _name(self, time_step: str) -> str:
         name = f"{self.build}-{self.law}-{self.pair.geometry}-K{self.K:.6g}-V{self.velocity:.6e}{time_step}"
+        if self.start_phase != START_PHASE or not self.aligned:
+            name += f"-phase{self.start_phase:.4f}" + ("" if self.aligned else "-unaligned")
         if self.matched_restitution is not None:
             name += f"-e{self.matched_restitution:.6f}"
         return f"{name}-{self.label}" if self.label else name
@@ -174,7 +182,7 @@ class RunSpec:
     def initial_gap(self) -> float:
         """Distance between the surfaces at t = 0 [m]: GAP_STEPS + START_PHASE steps of
         approach, so that contact starts half a step after sample GAP_STEPS."""
-        return (GAP_STEPS + START_PHASE) * self.velocity * self.time_step
+        return (GAP_STEPS + self.start_phase) * self.velocity * self.time_step
 
     def steps(self) -> int:
         """Steps to run: the approach, the contact (the reference duration until the overlap
@@ -243,7 +251,7 @@ class RunSpec:
             "radius_2": None if p.body_2.is_plane else p.body_2.radius,
             "density_2": None if p.body_2.is_plane else p.body_2.density,
             "delta_e": s["delta_e"], "T_e": s["T_e"], "A_e": s["A_e"],
-            "ladder": self.ladder, "aligned_end": self.aligned_end, "start_phase": START_PHASE,
+            "ladder": self.ladder, "aligned_end": self.aligned_end, "start_phase": self.start_phase,
             "roundoff_floor": self.roundoff_floor(),
         }
         if self.matched_restitution is not None:

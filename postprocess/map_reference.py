@@ -17,28 +17,40 @@ from __future__ import annotations
 
 import math
 
-from contact_model import MODEL_LAWS
+from contact_model.keywords import KEYWORDS
+from contact_model.laws import DAMPING_POWER
+from engines.codes import keyword_of
 from engines.run_spec import GAP_STEPS
 from reference.engine_map import replay
 
 from records.collision_metrics import CollisionMetrics, ExtractionError, collision_metrics
 
 
+def map_law(meta: dict) -> tuple[float, float, bool]:
+    """(coefficient, damping power, clipped) of the map of the run of dump header `meta`: the
+    viscoelastic model's K and x^{1/2} (clipped for viscoelastic_clipped), or an engine keyword's
+    own coefficient, power and clip (`contact_model.keywords`) at the restitution it was told."""
+    keyword = keyword_of(meta["law"], meta["engine"])
+    if keyword is None:
+        return float(meta["K"]), 0.5, meta["law"] == "viscoelastic_clipped"
+    k = KEYWORDS[keyword]
+    return k.b(k.told_for(float(meta["matched_restitution"]))), DAMPING_POWER[k.form], k.clipped
+
+
 def map_metrics(meta: dict, samples: int) -> CollisionMetrics:
-    """The map's collision for the run of dump header `meta` (its K, time step, start phase and
-    law), `samples` samples long, extracted like an engine's record (dimensionless)."""
+    """The map's collision for the run of dump header `meta` (its law, time step and start
+    phase), `samples` samples long, extracted like an engine's record (dimensionless)."""
     h = meta["time_step"] * meta["impact_velocity"] / meta["delta_e"]
-    d = replay(meta["K"], h, samples, start_phase=meta.get("start_phase", 0.5), gap_steps=GAP_STEPS,
-               clipped=meta["law"] == "viscoelastic_clipped")
+    coefficient, power, clipped = map_law(meta)
+    d = replay(coefficient, h, samples, start_phase=meta.get("start_phase", 0.5), gap_steps=GAP_STEPS,
+               clipped=clipped, power=power)
     return collision_metrics(*d.T, impact_velocity=1.0)
 
 
 def map_errors(meta: dict, m: CollisionMetrics, samples: int) -> dict:
-    """{criterion: {'T', 'A', 'eps': the engine's value / the map's - 1}} of a run of a gated law
-    (empty for the out-of-the-box law, which is not the map's force, and where the map's
-    collision cannot be extracted)."""
-    if meta["law"] not in MODEL_LAWS:  # the map replays the viscoelastic model, not an engine's keyword
-        return {}
+    """{criterion: {'T', 'A', 'eps': the engine's value / the map's - 1}} of a run of any law
+    (`map_law`: the model's or an engine keyword's force on the same map); empty where the map's
+    collision cannot be extracted."""
     try:
         ref = map_metrics(meta, samples)
     except ExtractionError:

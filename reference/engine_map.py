@@ -7,6 +7,8 @@ half-step velocities w_{n-1/2} (engines/ladder.py says why it is first-order in 
 reference solver's units (x = delta / delta_e, tau = t V / delta_e, forces in M* V^2 / delta_e)::
 
     f_n       = x_n^{1/2} ((5/4) x_n + K w_{n-1/2})   where x_n > 0, else 0   (clipped: max(f_n, 0))
+
+(or (5/4) x_n^{3/2} + c x_n^p w_{n-1/2} for a law of damping power p: `replay`'s ``power``)
     w_{n+1/2} = w_{n-1/2} - h f_n
     x_{n+1}   = x_n + h w_{n+1/2}
 
@@ -47,8 +49,29 @@ def _advance(K, h, steps, x, w, clipped, offset):
     return out
 
 
+@numba.njit(cache=True)
+def _advance_power(c, power, h, steps, x, w, clipped, offset):
+    """`_advance` with the damping c x^power x' of any power (0: a linear dashpot, 1/4: the
+    restitution keywords); the force jumps to c w at touching where power = 0."""
+    out = np.empty((steps + 1, 4))
+    for n in range(steps + 1):
+        overlap = x + offset
+        f = 0.0
+        if overlap > 0.0:
+            f = 1.25 * overlap * math.sqrt(overlap) + c * overlap**power * w
+            if clipped and f < 0.0:
+                f = 0.0
+        out[n, 0] = n * h
+        out[n, 1] = overlap
+        out[n, 2] = w - 0.5 * h * f
+        out[n, 3] = f
+        w = w - h * f
+        x = x + h * w
+    return out
+
+
 def replay(K: float, h: float, steps: int, start_phase: float = 0.5, gap_steps: int = 20,
-           clipped: bool = False, position_scale: float = 0.0) -> np.ndarray:
+           clipped: bool = False, position_scale: float = 0.0, power: float = 0.5) -> np.ndarray:
     """The map's record of a collision: an array (steps + 1, 4) of (tau, x, rate, force) in the
     reference's units.
 
@@ -64,6 +87,9 @@ def replay(K: float, h: float, steps: int, start_phase: float = 0.5, gap_steps: 
         Contact starts `start_phase` of a step after sample `gap_steps`.
     clipped : bool
         Clip the force at zero (the law 'viscoelastic_clipped').
+    power : float
+        The damping's power p of x^p x' (`contact_model.laws.DAMPING_POWER`): 1/2 the
+        viscoelastic law (K), 1/4 the restitution keywords (b), 0 a linear dashpot (c).
     position_scale : float
         0: the overlap is the stored coordinate itself (no rounding beyond the overlap's own).
         X > 0: the coordinate is stored as a centre at -X - (gap) and the overlap formed as
@@ -72,5 +98,8 @@ def replay(K: float, h: float, steps: int, start_phase: float = 0.5, gap_steps: 
     if not (h > 0 and steps > 0 and math.isfinite(h)):
         raise ValueError(f"replay needs a positive step and step count, got h = {h}, steps = {steps}")
     start = -(gap_steps + start_phase) * h
+    if power != 0.5:
+        return _advance_power(float(K), float(power), float(h), int(steps), start - position_scale, 1.0, bool(clipped),
+                              float(position_scale))
     return _advance(float(K), float(h), int(steps), start - position_scale, 1.0, bool(clipped),
                     float(position_scale))
