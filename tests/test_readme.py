@@ -59,12 +59,16 @@ def test_the_readme_user_path_runs_as_written(tmp_path):
         (project / path).write_text(text)
     assert {"cases/mine.yaml", "cases/mydata.csv", "cases/mydata.yaml"} <= set(files())
     run = [c for c in commands() if c.split("  #")[0].strip() not in ELSEWHERE]
-    assert len(run) == 6, run  # eta for K, eta for a restitution, the case, your build, the comparison, the calibration
+    assert len(run) == 7, run  # eta for K, eta for a restitution, the time step, the case, your build, the
+    # comparison, the calibration
     for command in run:
         out = subprocess.run(["bash", "-c", command], cwd=project, capture_output=True, text=True, timeout=900)
         assert out.returncode == 0, f"{command}\n{out.stdout[-3000:]}\n{out.stderr[-3000:]}"
         if "viscosity_for_k" in command:
             assert "mine (cases/mine.yaml): the viscosity eta giving each K" in out.stdout
+        if "postprocess.timestep" in command:
+            assert "sphere-plane, law viscoelastic (criterion x0), V = 1 m/s" in out.stdout
+            assert "error at your dt: min / median / max over the start phases" in out.stdout
         if "viscosity_for_restitution" in command:
             assert "mine (cases/mine.yaml): the viscosity eta whose viscoelastic collision restitutes" in out.stdout
     # What the README says each step leaves behind.
