@@ -76,7 +76,20 @@ def characteristics(T: float, delta_max: float, eps: float, F_max: float, R: flo
             "delta_max": delta_max, "F_max": F_max}
 
 
+#: The units a person reads each dimension in, largest first, with their factor from SI.
+_PREFIXED = {"s": (("s", 1.0), ("ms", 1e3), ("µs", 1e6), ("ns", 1e9)),
+             "m": (("m", 1.0), ("mm", 1e3), ("µm", 1e6), ("nm", 1e9)),
+             "m^2": (("m²", 1.0), ("mm²", 1e6), ("µm²", 1e12)),
+             "N": (("MN", 1e-6), ("kN", 1e-3), ("N", 1.0), ("mN", 1e3), ("µN", 1e6))}
+
+
 def readable(name: str, value: float) -> str:
-    """`value` [SI] of quantity `name` in the unit a person reads it in ('52.31 µs')."""
-    unit, factor = QUANTITIES[name].display
-    return f"{value * factor:.6g}" + (f" {unit}" if unit else "")
+    """`value` [SI] of quantity `name` in the unit a person reads it in, the largest in which it is
+    at least 0.1 ('52.31 µs', '2.5 kN', '0.749 mm²', '0.9045' for a ratio)."""
+    q = QUANTITIES[name]
+    units = _PREFIXED.get(q.unit)
+    if units is None or not math.isfinite(value) or value == 0:
+        unit, factor = q.display
+        return f"{value * factor:.6g}" + (f" {unit}" if unit else "")
+    unit, factor = next(((u, f) for u, f in units if abs(value) * f >= 0.1), units[-1])
+    return f"{value * factor:.6g} {unit}"

@@ -28,6 +28,7 @@ from records.files import write_atomically
 from reference import FIRST_ORDER, HERTZ_TAU
 
 from .gate import GATED_QUANTITIES, gating, with_build
+from .quantities import readable
 from .report_matrix import build_order, matrix_cells, matrix_html, matrix_markdown
 from .report_plots import plot_errors, plot_ratios, reference_curve, start_drawing
 from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence
@@ -206,6 +207,44 @@ def _keyword_section(limits: pd.DataFrame, builds) -> list[str]:
             *[f"- Known defect of `{name}`: {text}." for name, text in defects.items()], ""]
 
 
+#: The quantities of the physical-results table, in the order a reader of Chung & Ooi expects.
+PHYSICAL = ("T", "delta_max", "F_max", "A", "eps")
+#: Hertz's contact time t_c = C (M*^2 / (R* E*^2 V))^{1/5}: C = tau_e (15/16)^{2/5} = 2.8683...
+HERTZ_CONSTANT = HERTZ_TAU * (15.0 / 16.0) ** 0.4
+
+
+def _physical_section(limits: pd.DataFrame) -> list[str]:
+    """The case's physical results: per geometry, each law, criterion and velocity, the reference's
+    T, delta_max, F_max, A and eps in readable units, and the engines' (dt -> 0) largest relative
+    difference from it over the builds; the elastic rows beside Hertz's closed forms."""
+    if not len(limits) or "delta_max_ref" not in limits.columns:
+        return []
+    lines = ["## Physical results", "",
+             "The reference solution of each law in physical units, and beside each value the largest relative "
+             "difference of the engines' ladder limits (dt -> 0) over the builds: T the contact time, delta_max the "
+             "largest overlap, F_max the largest normal force, A = pi R* delta_max, eps the restitution (under the "
+             "criterion of the row).", ""]
+    for geometry, g in limits.groupby("geometry", sort=False):
+        rows = []
+        for (law, criterion, V), s in g.groupby(["law", "criterion", "V"], sort=False):
+            r = s.iloc[0]
+            row = {"law": law, "criterion": criterion, "V [m/s]": f"{V:.6g}", "K": f"{r.K:.4g}"}
+            for q in PHYSICAL:
+                worst = s[f"err_{q}"].abs().max() if f"err_{q}" in s else float("nan")
+                row[q] = readable(q, float(r[f"{q}_ref"])) + (f" (±{worst:.0e})" if pd.notna(worst) else "")
+            rows.append(row)
+        lines += [f"### {geometry}", "", _md_table(pd.DataFrame(rows)), ""]
+        elastic = g[g.law == "elastic"]
+        if len(elastic):
+            r = elastic.iloc[0]
+            lines += [f"Hertz's closed forms at V = {r.V:.6g} m/s: t_c = C (M*^2 / (R* E*^2 V))^(1/5) with "
+                      f"C = tau_e (15/16)^(2/5) = {HERTZ_CONSTANT:.10f} gives {readable('T', r.T_e)}; "
+                      "delta_max = (15 M* V^2 / (16 E* sqrt(R*)))^(2/5) = "
+                      f"{readable('delta_max', r.A_e / (r.A_ref / r.delta_max_ref))}, F_max = (4/3) E* sqrt(R*) "
+                      f"delta_max^(3/2) (= (5/4) M* V^2 / delta_max) and eps = 1: the elastic row's reference.", ""]
+    return lines
+
+
 def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
     """What a build's restitution keyword did: its own equation at dt -> 0 (the gate), what that
     equation restitutes when told e (its promise; contact_model.keywords), and its known defect."""
@@ -283,6 +322,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
               f"`{inputs.folder}/checks.csv`. Machine-readable: `verdict.json`, `junit.xml` (one test case per "
               "check).", ""]
     lines += _parts_section(inputs.case_reports, inputs.comparisons, calibration is not None)
+    if inputs.folder != "results":  # a case's report opens with its collisions in physical units
+        lines += _physical_section(limits)
     if has_rows:
         versions = table.groupby(["build", "engine"], sort=False).engine_version.unique()
         lines += ["## Engines", "", "Every engine build (config `builds:`) runs the same cases, laws, geometries and "

@@ -15,7 +15,7 @@ rounding: docs/timestep.md) replayed at 32 phases of the contact's start on the 
 
 T_R = pi R sqrt(rho / G) / (0.1631 nu + 0.8766), G = Y / (2 (1 + nu)) of the sphere (body 1;
 `contact_model.collision_scales.rayleigh_time`: Y = 2 E*, nu = 0 where the case gives only E*), and
-T_e = delta_e / V (tau_e T_e is Hertz's contact time, tau_e = 2.9432...).
+T_e = tau_e delta_e / V, Hertz's contact time (tau_e = 2.9432...).
 
 The laws are the study's (`contact_model.laws`) and the engines' keywords (`contact_model.keywords`,
 by their registry name, e.g. ``lammps:tsuji``); ``default`` needs ``--code``. The model's laws take
@@ -283,7 +283,7 @@ def _text(rows: list[dict], cs: list[Collision], dt_given: bool) -> str:
         lines.append(f"{c.geometry}, law {c.law} (criterion {c.criterion}), V = {c.V:.6g} m/s"
                      + (f", K = {c.K:.6g}" if math.isfinite(c.K) else "")
                      + f": T_R = {c.T_R:.6g} s (pi R sqrt(rho/G) / (0.1631 nu + 0.8766)), "
-                     f"T_e = {c.T_e:.6g} s (delta_e / V; contact time {HERTZ_TAU * c.T_e:.6g} s in Hertz's limit)")
+                     f"T_e = {c.T_e:.6g} s (Hertz's contact time, {HERTZ_TAU:.6g} delta_e / V)")
         head = f"  {'quantity':<10} {'dt_max [s]':>12} {'/T_R':>8} {'/T_e':>8}   error at " + \
                ("your dt" if dt_given else "dt_max") + ": min / median / max over the start phases"
         lines.append(head)

@@ -36,3 +36,25 @@ def test_hertz_elastic_collision_in_si():
     assert q["F_max"] == pytest.approx(4 / 3 * E * math.sqrt(R) * delta_e**1.5, rel=1e-12)
     assert q["A"] == pytest.approx(math.pi * R * delta_e, rel=1e-12)
     assert readable("T", q["T"]).endswith(" µs") and readable("F_max", 2500.0) == "2.5 kN"
+
+
+def test_a_case_report_opens_with_its_collisions_in_physical_units():
+    """The physical-results section of a case report: the reference's values in readable units
+    with the engines' largest difference, and the elastic rows beside Hertz's closed forms with the
+    exact constant C = tau_e (15/16)^(2/5) = 2.86826...."""
+    import pandas as pd
+    from test_comparison import exact_metrics, meta_for
+
+    from postprocess.comparison import comparison_rows
+    from postprocess.report import HERTZ_CONSTANT, _physical_section
+
+    assert HERTZ_CONSTANT == pytest.approx(2.8683, abs=5e-5)
+    rows = []
+    for K, law in ((0.1, "viscoelastic"), (0.0, "elastic")):
+        meta = {**meta_for(K=K, represents=("x0",)), "law": law}
+        rows += comparison_rows(meta, exact_metrics(meta))
+    limits = pd.DataFrame(rows).assign(dt=0.0, build="b")
+    text = "\n".join(_physical_section(limits))
+    elastic = limits[limits.law == "elastic"].iloc[0]
+    assert readable("T", elastic.T_ref) in text and " µs (±" in text and " kN (±" in text or " N (±" in text
+    assert f"C = tau_e (15/16)^(2/5) = {HERTZ_CONSTANT:.10f} gives {readable('T', elastic.T_ref)}" in text
