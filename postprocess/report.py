@@ -156,6 +156,10 @@ class ReportInputs:
     convergence: pd.DataFrame | None = None
     convergence_orders: pd.DataFrame | None = None
     convergence_spread: pd.DataFrame | None = None
+    #: The largest dt / T_R for each tolerance over K and e (postprocess.report_timestep.largest_steps).
+    largest_steps: pd.DataFrame | None = None
+    #: A case report's time-step section (postprocess.report_timestep.case_error_maps), Markdown lines.
+    timestep: list = field(default_factory=list)
     regressions: pd.DataFrame | None = None
     claims: pd.DataFrame | None = None
     table1: pd.DataFrame | None = None
@@ -323,7 +327,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
               "check).", ""]
     lines += _parts_section(inputs.case_reports, inputs.comparisons, calibration is not None)
     if inputs.folder != "results":  # a case's report opens with its collisions in physical units
-        lines += _physical_section(limits)
+        lines += _physical_section(limits) + list(inputs.timestep)
     if has_rows:
         versions = table.groupby(["build", "engine"], sort=False).engine_version.unique()
         lines += ["## Engines", "", "Every engine build (config `builds:`) runs the same cases, laws, geometries and "
@@ -371,6 +375,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                       "out-of-the-box laws are not gated):", "", *_failed_runs_table(failed_runs)]
     if convergence is not None:
         lines += _convergence_section(convergence, convergence_orders, convergence_spread)
+    if i.largest_steps is not None and len(i.largest_steps):
+        lines += _largest_steps_section(i.largest_steps)
     if regressions is not None:
         lines += _lammps_regression_section(regressions, checks)
     if claims is not None:
@@ -505,6 +511,21 @@ def _convergence_section(largest: pd.DataFrame, orders: pd.DataFrame | None = No
     return lines + ["![convergence](plots/convergence.png)", "",
                     "The gated runs' own ladders (T_e/125 ... T_e/2000 x sqrt(K)), rung by rung, and what their "
                     "extrapolation removes from each: ![ladders](plots/ladders.png)", ""]
+
+
+def _largest_steps_section(table: pd.DataFrame) -> list[str]:
+    """The advisor's summary: the largest dt / T_R holding 1e-2, 1e-3 and 1e-4 at every start phase."""
+    wide = table.pivot_table(index=["law", "K", "e"], columns="tolerance", values="dt_max_over_T_R",
+                             dropna=False).dropna(how="all").reset_index()
+    wide.columns = [c if isinstance(c, str) else f"dt/T_R for {c:g}" for c in wide.columns]
+    return ["## Which time step? At every phase of the contact's start", "",
+            "From the engines' discrete map (every build follows it to 1e-12 at 0.05-0.3 T_R: docs/timestep.md): the "
+            "largest dt / T_R that keeps T, A and eps within each tolerance whatever phase of a step the contact "
+            "starts at, for the viscoelastic law over K (steel spheres) and for each code's restitution keyword "
+            "over the e it is told (codes whose keywords compute one equation share a row; 0.6: the grid's top). "
+            "Your case, law and step: `python -m postprocess.timestep cases/<case>.yaml --law <law> --dt 0.2T_R` "
+            "(`results/convergence/largest_dt_over_T_R.csv`).", "",
+            _md_table(wide, ".3g"), "", "![largest dt](plots/largest_dt_over_T_R.png)", ""]
 
 
 def _paper_section(claims: pd.DataFrame, table1: pd.DataFrame | None, energy_check: pd.DataFrame | None) -> list[str]:

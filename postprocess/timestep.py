@@ -114,16 +114,20 @@ def errors_at(c: Collision, h: float, phases=None) -> dict[str, np.ndarray]:
     return out
 
 
-def largest_step(c: Collision, tolerance: float) -> dict[str, float]:
+def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None = None) -> dict[str, float]:
     """{quantity: dt_max / T_R}: the largest dt keeping |error| <= tolerance at every phase. The
     grid `GRID_OVER_T_R` is scanned from its coarsest step down (a step that cannot be read
     fails); dt_max lies between the first step that passes, with the next CONFIRM finer steps
     passing too, and the step above it, and is refined there by bisection in log dt. 0 where not
-    even the finest step of the grid passes."""
+    even the finest step of the grid passes. `phases` (default: PHASES of them) and `cache` ({dt /
+    T_R: errors}, shared by calls for several tolerances) are passed on to `errors_at`."""
     to_h = c.T_R * c.V / c.delta_e  # dt / T_R -> h
+    cache = {} if cache is None else cache
 
     def passes(x):
-        e = errors_at(c, x * to_h)
+        if x not in cache:
+            cache[x] = errors_at(c, x * to_h, phases)
+        e = cache[x]
         return {q: bool(np.all(np.abs(e[q]) <= tolerance)) for q in QUANTITIES}
 
     found: dict[str, tuple[float, float | None]] = {}

@@ -40,6 +40,19 @@ rule convergence_runs:
     script: "../scripts/convergence_runs.py"
 
 
+rule largest_steps:
+    """The largest dt / T_R holding 1e-2, 1e-3 and 1e-4 at every start phase, on the engines' map
+    (postprocess.report_timestep): the viscoelastic law over the K grid, each code's keyword over e."""
+    input: case=config["convergence"]["case"]
+    output:
+        csv="results/convergence/largest_dt_over_T_R.csv",
+        plot="results/plots/largest_dt_over_T_R.png",
+    log: "logs/convergence/largest_steps.log"
+    benchmark: "logs/benchmarks/largest_steps/all.tsv"
+    params: K=config["K_grid"], restitution=[0.3, 0.5, 0.7, 0.8, 0.9, 0.95]
+    script: "../scripts/largest_steps.py"
+
+
 rule convergence_summary:
     """Errors against dt from production steps on, the observed orders, the largest dt meeting
     each threshold (in T_e and in the Rayleigh time); the log-log plot."""

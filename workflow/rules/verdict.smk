@@ -13,7 +13,8 @@ rule summary:
 PAPER_FIGURES = {1: "fig1_phi", 3: "fig3_eps_collapse", 4: "fig4_energy", 5: "fig5_fracture"}
 EXTRA_REPORT_INPUTS = {
     **({"convergence": "results/convergence/largest_dt.csv", "convergence_orders": "results/convergence/orders.csv",
-        "convergence_spread": "results/convergence/build_spread.csv"} if "convergence" in EXTRAS else {}),
+        "convergence_spread": "results/convergence/build_spread.csv",
+        "largest_steps": "results/convergence/largest_dt_over_T_R.csv"} if "convergence" in EXTRAS else {}),
     **({"claims": "results/paper/claims.csv", "table1": "results/paper/table1.csv",
         "energy_check": "results/paper/fig4_energy.csv",
         **{f"figure_{n}": f"results/paper/{name}.png" for n, name in PAPER_FIGURES.items()}}

@@ -11,9 +11,11 @@ from pathlib import Path
 import pandas as pd
 
 from common import log_to
+from contact_model import Body, ContactPair
 from engines.codes import CODES
 from postprocess.gate import gate_checks, verdict_of, write_junit, write_verdict
 from postprocess.report import ReportInputs, write_report
+from postprocess.report_timestep import case_error_maps
 from records.files import file_sha256
 from records.run_manifest import read_manifest
 
@@ -30,10 +32,15 @@ verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
 write_junit(checks, snakemake.output.junit)
 builds = list(snakemake.params.builds)
+# The case's time-step section: its laws' errors against dt / T_R (postprocess.report_timestep).
+pairs = {g: ContactPair(g, Body(**p["body_1"]), Body(**p["body_2"]), p["E"], p["eta"])
+         for g, p in plan["pairs"].items()}
+(Path(snakemake.output.md).parent / "plots").mkdir(parents=True, exist_ok=True)
+_, timestep = case_error_maps(plan, pairs, Path(snakemake.output.md).parent / "plots" / "timestep.png")
 code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b in snakemake.params.builds.values())}
 write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
                           not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
-                          plan_notes=plan.get("notes", []),
+                          plan_notes=plan.get("notes", []), timestep=timestep,
                           code_notes=code_notes, ladder=snakemake.params.ladder,
                           reference=pd.read_csv(snakemake.input.reference),
                           title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",

@@ -42,8 +42,8 @@ for path in snakemake.input.comparisons:
     comparisons.append({"pair": folder.name, "report": (folder / "compare.html").relative_to(out).as_posix(),
                         **{s: int(status.get(s, 0)) for s in ("regression", "fix", "unchanged", "new", "removed")}})
 optional = {key: pd.read_csv(snakemake.input[key])
-            for key in ("convergence", "convergence_orders", "convergence_spread", "regressions", "claims", "table1",
-                        "energy_check")
+            for key in ("convergence", "convergence_orders", "convergence_spread", "largest_steps", "regressions",
+                        "claims", "table1", "energy_check")
             if key in snakemake.input.keys()}
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
