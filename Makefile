@@ -30,11 +30,11 @@ SLURM_CONF_LOCAL := $(CURDIR)/.slurm/etc/slurm.conf
 CI_STUDY := cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'
 
 # The study's log ends with its verdict and the report's path (postprocess.verdict_files).
-study: engines lammps-2025 kratos-10.4 venv
+study: engines lammps-2025 kratos-10.4 yade-2025 venv
 	@$(VENV)/bin/snakemake -j$(JOBS) all; status=$$?; echo; $(PY) -m postprocess.verdict_files results; exit $$status
 
 # Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
-test: engines lammps-2025 kratos-10.4 venv
+test: engines lammps-2025 kratos-10.4 yade-2025 venv
 	$(PY) -m pytest -n $(JOBS) --dist loadgroup
 
 # The linter CI runs (pyproject.toml's [tool.ruff]).
@@ -51,7 +51,7 @@ browser:
 test-unit: venv
 	$(PY) -m pytest -n $(JOBS) -m unit
 
-bench: engines lammps-2025 kratos-10.4 venv
+bench: engines lammps-2025 kratos-10.4 yade-2025 venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
 	$(PY) -m benchmarks.study
 	$(PY) -m benchmarks.sensitivity
@@ -137,7 +137,7 @@ clean:
 	rm -rf results .snakemake
 
 # CI's reduced study: one material, three K, every build, both geometries.
-ci-study: engines lammps-2025 kratos-10.4 venv
+ci-study: engines lammps-2025 kratos-10.4 yade-2025 venv
 	@$(VENV)/bin/snakemake -j$(JOBS) all --config $(CI_STUDY); status=$$?; echo; \
 	  $(PY) -m postprocess.verdict_files results; exit $$status
 

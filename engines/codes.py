@@ -103,6 +103,17 @@ class EngineCode:
     integrator: str = ""
     keyword: str = ""
     supplied: dict[str, str] = field(default_factory=dict)
+    #: {law: (release, how)}: a law of `supplied` the engine computes itself from `release` on
+    #: ((year, month) of its version), e.g. YADE's clipped viscoelastic force from 2024.02a.
+    native: dict[str, tuple[tuple[int, int], str]] = field(default_factory=dict)
+
+    def supplied_in(self, version: str) -> dict[str, str]:
+        """`supplied` of the release whose version line is `version` ('YADE 2025.2.0 (...)'): the
+        laws the engine computes itself there (`native`) left out."""
+        m = re.search(r"(\d{4})\.(\d{1,2})", version or "")
+        release = (int(m.group(1)), int(m.group(2))) if m else None
+        return {law: text for law, text in self.supplied.items()
+                if not (law in self.native and release is not None and release >= self.native[law][0])}
 
     @property
     def default_criterion(self) -> str:
@@ -128,10 +139,10 @@ class EngineCode:
 
 
 #: What the study supplies of YADE 2023's viscoelastic laws (cases/decks/yade/collisions.py).
-YADE_PYRUNNER = ("YADE 2023.02a has no viscoelastic Hertz law: the dissipative force c delta^(1/2) d(delta)/dt is "
-                 "added at every step by the study's own Python (a PyRunner of cases/decks/yade/collisions.py), so "
-                 "these cells validate YADE's Hertz force and integrator plus the project's damping, not a damping "
-                 "law of YADE's")
+YADE_PYRUNNER = ("YADE 2023.02a has no viscoelastic Hertz law, and from 2024.02a its own (MindlinPhys.beta) is "
+                 "clipped at zero force: the dissipative force c delta^(1/2) d(delta)/dt is added at every step by "
+                 "the study's own Python (a PyRunner of cases/decks/yade/collisions.py), so these cells validate "
+                 "YADE's Hertz force and integrator plus the project's damping, not a damping law of YADE's")
 
 #: Why Kratos 10.4 has no viscoelastic cell (engines.kratos's docstring cites the sources).
 KRATOS_NO_VISCOELASTIC = (
@@ -165,8 +176,11 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         name="yade", title="YADE", integrator="leapfrog",
         keyword="yade:en",
         supplied={"viscoelastic": YADE_PYRUNNER, "viscoelastic_clipped": YADE_PYRUNNER},
+        native={"viscoelastic_clipped": ((2024, 2), "MindlinPhys.beta, set on the interaction before contact "
+                                                    "(cases/decks/yade/collisions.py: native)")},
         banner=re.compile(r"^Yade version: .*$", re.M), version_args=("--version",),
-        install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`)",
+        install_hint="install Debian's build with `sudo apt-get install yade` (or `make engines`; Debian 13's "
+                     "2025.2.0 beside it: `make yade-2025`)",
         parameters=model_to_engine.yade_viscoelastic_hertz,
         driver="engines.yade:run_yade", decks=("cases/decks/yade/*.py",),
         default_law="Hertz-Mindlin (`Ip2_FrictMat_FrictMat_MindlinPhys`) with `en`",

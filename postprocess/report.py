@@ -305,7 +305,9 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
         figures.append((plot_ladders, (ladder_runs, limits, tolerance, plots / "ladders.png", builds)))
     figures_drawn = start_drawing(figures, workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
-    supplied = {name: code.supplied for name, code in CODES.items() if code.supplied}  # marked at the cells
+    # What the study supplies of a law in each build's release, marked at the cells.
+    supplied = ({b: CODES[e].supplied_in(v) for (b, e), v in table.groupby(["build", "engine"], sort=False)
+                 .engine_version.first().items()} if has_rows else {})
     html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes, supplied), matrix_html(cells, supplied))}
 
     lines = [

@@ -200,13 +200,13 @@ def error_matrix(cells: pd.DataFrame) -> pd.DataFrame:
 
 
 def supplied_footnotes(cells: pd.DataFrame, supplied: Mapping[str, Mapping[str, str]] | None) -> dict:
-    """{(engine code, law): footnote mark '†1', ...} of the cells whose law the study itself
-    supplies in that code (`engines.codes.EngineCode.supplied`), one per code and law, in the order
-    of the matrix."""
+    """{(build, law): footnote mark '†1', ...} of the cells whose law the study itself supplies in
+    that build (`supplied`: {build: {law: what}}, `engines.codes.EngineCode.supplied_in` of the
+    build's release), one per build and law, in the order of the matrix."""
     notes: dict[tuple[str, str], str] = {}
     for r in cells[cells.status != "n/a"].itertuples() if len(cells) and supplied else ():
-        if r.law in (supplied.get(r.engine) or {}):
-            notes.setdefault((r.engine, r.law), f"†{len(notes) + 1}")
+        if r.law in (supplied.get(r.build) or {}):
+            notes.setdefault((r.build, r.law), f"†{len(notes) + 1}")
     return notes
 
 
@@ -278,8 +278,8 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
         if cell is None:
             return SYMBOL["none"]
         t = cell_text(cell)
-        if (cell["engine"], cell["law"]) in marks:
-            t += " " + marks[(cell["engine"], cell["law"])]
+        if (cell["build"], cell["law"]) in marks:
+            t += " " + marks[(cell["build"], cell["law"])]
         return t + _superscript(notes[(cell["engine"], cell["reason"])]) if cell["status"] == "n/a" else t
 
     builds = list(pd.unique(cells.build))
@@ -293,7 +293,7 @@ def matrix_markdown(cells: pd.DataFrame, tolerance: Mapping[str, float],
         lines += [f"{n}. {codes}: {md_text(reason)}" for n, codes, reason in na_note_lines(notes)] + [""]
     if marks:
         lines += ["Supplied by the study, not the engine (the cells marked †):", ""]
-        lines += [f"- {mark} {code}, {law}: {md_text(supplied[code][law])}" for (code, law), mark in marks.items()]
+        lines += [f"- {mark} {build}, {law}: {md_text(supplied[build][law])}" for (build, law), mark in marks.items()]
         lines += [""]
     lines += code_notes_markdown(code_notes, list(pd.unique(cells.engine)))
     return lines
@@ -375,8 +375,8 @@ def matrix_html(cells: pd.DataFrame, supplied: Mapping[str, Mapping[str, str]] |
             text += "</span>" if '<span class="res">' in text else ""
             if status == "n/a":
                 text += f"<sup>{notes[(cell['engine'], cell['reason'])]}</sup>"
-            elif (cell.get("engine"), cell.get("law")) in marks:
-                text += f"<sup>{marks[(cell['engine'], cell['law'])]}</sup>"
+            elif (cell.get("build"), cell.get("law")) in marks:
+                text += f"<sup>{marks[(cell['build'], cell['law'])]}</sup>"
             css = {"n/a": "na"}.get(status, status)
             tds.append(f'<td class="{css}{edge(i)}" title="{escape(cell_title(cell), quote=True)}">{text}</td>')
         body.append(f'<tr><th scope="row" class="build">{escape(str(b))}</th>{"".join(tds)}</tr>')

@@ -24,6 +24,7 @@ VERSIONS = {
     "liggghts-3.8": ("LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled 2022-01-26-19:42:32 by buildd, "
                      "git commit unknown)"),
     "yade-2023": "Yade version: 2023.02a",
+    "yade-2025": "Yade version: 2025.2.0",
     "lammps-2021": "LAMMPS (29 Sep 2021 - Update 2)",
     "lammps-2025": "LAMMPS (22 Jul 2025 - Update 4)",
     "esys-2.3.5": "ESyS-Particle 2.3.4",  # Debian's esys-particle 2.3.5 reports 2.3.4 (engines.codes)

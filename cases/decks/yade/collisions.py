@@ -1,4 +1,4 @@
-# YADE 2023.02a driver: a sequence of head-on collisions in one YADE process.
+# YADE driver (2023.02a and 2025.2.0): a sequence of head-on collisions in one YADE process.
 #
 #   yade -n -x collisions.py job=<job.json>
 #
@@ -13,7 +13,9 @@
 #                  poisson = 0) with betan = 0, plus the dissipative force
 #                  F_d = c sqrt(delta) d(delta)/dt added with O.forces.addF between the
 #                  InteractionLoop and the NewtonIntegrator; the attractive tail is kept.
-#   viscoelastic_clipped   the same, total force clipped at >= 0 (what YADE's own damping does).
+#   viscoelastic_clipped   the same, total force clipped at >= 0 (what YADE's own damping does);
+#                  in YADE 2024.02a and later YADE's own: MindlinPhys.beta set so that its
+#                  c_n = A k_n is c sqrt(delta) (native(); no Python force).
 #   default        Hertz-Mindlin with its restitution damping (Ip2 en), as a user would set it.
 #
 # Geometry (as in the LIGGGHTS decks): body A, a sphere at x1 < 0, moves +x; body B is a sphere
@@ -38,6 +40,8 @@ with open(args["job"]) as f:
     JOB = json.load(f)
 
 S = {}
+#: YADE 2024.02a and later damp a Hertz contact as Brilliantov's law themselves (MindlinPhys.beta).
+NATIVE_BETA = "beta" in dir(MindlinPhys())
 
 
 def build(run):
@@ -64,13 +68,27 @@ def build(run):
         InteractionLoop(
             [Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom(hertzian=True)],
             [ip2],
-            [Law2_ScGeom_MindlinPhys_Mindlin()]),
+            [Law2_ScGeom_MindlinPhys_Mindlin(neverErase=native(run))]),
         PyRunner(command="after_contact_forces()", iterPeriod=1, initRun=True),  # also at iteration 0
         NewtonIntegrator(damping=0.0, gravity=(0, 0, 0)),  # YADE's default damping is 0.2
     ]
     O.dt = run["dt"]
     S.clear()
     S.update(run=run, a=a, b=b, rows=[], two=run["geometry"] == "sphere-sphere")
+    if native(run):
+        # YADE's own damping, c_n = A k_n with k_n = (3/2) k_no sqrt(delta) and A from MindlinPhys.beta
+        # (A = (2/3) beta (k_no / mbar)^(-2/5), HertzMindlin.cpp:469-470 @2025.2.0): beta is set on the
+        # interaction before the bodies touch (created now; neverErase keeps it through the approach,
+        # where Law2 gives no force), so that c_n sqrt(delta)... is c sqrt(delta) from the first step.
+        i = utils.createInteraction(a, b)
+        kno = i.phys.kno
+        i.phys.beta = run["c"] / kno * (kno / run["M"]) ** 0.4
+
+
+def native(run):
+    """Whether YADE damps the run's viscoelastic force itself: the clipped law in a release whose
+    MindlinPhys has `beta` (2024.02a and later; Law2 clips the total normal force at zero)."""
+    return run["law"] == "viscoelastic_clipped" and NATIVE_BETA
 
 
 def after_contact_forces():
@@ -83,7 +101,7 @@ def after_contact_forces():
     else:
         overlap = run["R1"] + A.pos[0]
         rate_half = A.vel[0]
-    if overlap > 0 and "en" not in run and "betan" not in run:  # a keyword damps by itself
+    if overlap > 0 and "en" not in run and "betan" not in run and not native(run):  # YADE damps by itself
         f_d = run["c"] * math.sqrt(overlap) * rate_half
         if run["law"] == "viscoelastic_clipped" and O.interactions.has(a, b):
             f_el = O.interactions[a, b].phys.kno * overlap ** 1.5
