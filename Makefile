@@ -146,8 +146,8 @@ ci-study: engines lammps-2025 kratos-10.4 yade-2025 venv
 # on the host's files (the root as /, /work, /tmp and the current directory at their own paths):
 #   .yade-2025/yade -n -x script.py args...
 # Idempotent: nothing to do when the wrapper works; each missing step says what it does.
-YADE2025 := $(CURDIR)/.yade-2025
-YADE2025_ROOT := $(YADE2025)/root
+YADE2025 := .yade-2025
+YADE2025_ROOT := $(CURDIR)/$(YADE2025)/root
 define YADE2025_WRAPPER
 #!/bin/bash
 # YADE 2025.2.0 of Debian 13 (make yade-2025): the root's yade on the host's files.
@@ -160,7 +160,9 @@ exec bwrap "$${args[@]}" yade "$$@"
 endef
 export YADE2025_WRAPPER
 
-yade-2025:
+yade-2025: $(YADE2025)/yade
+
+$(YADE2025)/yade:
 	@set -e; \
 	if [ -x $(YADE2025)/yade ] && v=$$($(YADE2025)/yade --version 2>/dev/null | grep '^Yade version: 2025'); then \
 	  echo "yade-2025: $(YADE2025)/yade works ($$v)"; exit 0; fi; \

@@ -292,7 +292,7 @@ def test_copied_results_read_their_own_dumps_and_an_edited_dump_is_refused(proje
     assert b"steel/lammps/runs/lammps-viscoelastic" in summary and str(project).encode() not in summary
 
     copy = tmp_path / "copy"
-    shutil.copytree(project, copy)
+    shutil.copytree(project, copy, symlinks=True)  # the engines stay links (.yade-2025 holds /dev nodes)
     shutil.rmtree(project)  # the copy must not need the original
     again = study(copy, extra=["--forcerun", "case_summary"])
     assert again.returncode == 0, again.stderr[-3000:]
@@ -410,7 +410,7 @@ def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tm
 
 def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_as_fixes(project, tmp_path):
     baseline = tmp_path / "baseline"
-    shutil.copytree(project, baseline)
+    shutil.copytree(project, baseline, symlinks=True)
     ok = study(baseline)
     assert ok.returncode == 0, ok.stderr[-3000:]
     # The candidate: the same study with an engine whose collisions are 1 % slow, compared through the workflow.
