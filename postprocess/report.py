@@ -29,7 +29,7 @@ from reference import FIRST_ORDER, HERTZ_TAU
 
 from .gate import GATED_QUANTITIES, gating, with_build
 from .quantities import readable
-from .report_matrix import build_order, matrix_cells, matrix_html, matrix_markdown
+from .report_matrix import build_order, matrix_cells, matrix_html, matrix_markdown, md_text
 from .report_plots import plot_errors, plot_ratios, reference_curve, start_drawing
 from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence
 
@@ -241,11 +241,12 @@ def _physical_section(limits: pd.DataFrame) -> list[str]:
         elastic = g[g.law == "elastic"]
         if len(elastic):
             r = elastic.iloc[0]
-            lines += [f"Hertz's closed forms at V = {r.V:.6g} m/s: t_c = C (M*^2 / (R* E*^2 V))^(1/5) with "
-                      f"C = tau_e (15/16)^(2/5) = {HERTZ_CONSTANT:.10f} gives {readable('T', r.T_e)}; "
-                      "delta_max = (15 M* V^2 / (16 E* sqrt(R*)))^(2/5) = "
-                      f"{readable('delta_max', r.A_e / (r.A_ref / r.delta_max_ref))}, F_max = (4/3) E* sqrt(R*) "
-                      f"delta_max^(3/2) (= (5/4) M* V^2 / delta_max) and eps = 1: the elastic row's reference.", ""]
+            lines += [md_text(f"Hertz's closed forms at V = {r.V:.6g} m/s: t_c = C (M*^2 / (R* E*^2 V))^(1/5) with "
+                              f"C = tau_e (15/16)^(2/5) = {HERTZ_CONSTANT:.10f} gives {readable('T', r.T_e)}; "
+                              "delta_max = (15 M* V^2 / (16 E* sqrt(R*)))^(2/5) = "
+                              f"{readable('delta_max', r.A_e / (r.A_ref / r.delta_max_ref))}, F_max = (4/3) E* "
+                              "sqrt(R*) delta_max^(3/2) (= (5/4) M* V^2 / delta_max) and eps = 1: the elastic row's "
+                              "reference."), ""]
     return lines
 
 

@@ -57,4 +57,5 @@ def test_a_case_report_opens_with_its_collisions_in_physical_units():
     text = "\n".join(_physical_section(limits))
     elastic = limits[limits.law == "elastic"].iloc[0]
     assert readable("T", elastic.T_ref) in text and " µs (±" in text and " kN (±" in text or " N (±" in text
-    assert f"C = tau_e (15/16)^(2/5) = {HERTZ_CONSTANT:.10f} gives {readable('T', elastic.T_ref)}" in text
+    assert f"C = tau\\_e (15/16)^(2/5) = {HERTZ_CONSTANT:.10f} gives {readable('T', elastic.T_ref)}" in text
+    assert "t\\_c = C (M\\*^2 / (R\\* E\\*^2 V))^(1/5)" in text  # the asterisks print, not italics
