@@ -41,6 +41,7 @@ A case the engines cannot run honestly is refused here, before any engine starts
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 
@@ -181,10 +182,11 @@ def _solved_in_one_batch(case: Case, velocities: dict) -> dict:
     return _with_solutions(Ks)
 
 
+@functools.lru_cache(maxsize=64)
 def told_restitution(keyword: str, match_K: float) -> float:
     """What a keyword is told when the case gives no restitution: the viscoelastic reference's
     eps at match_K under the criterion the keyword's force allows (x0 where it keeps the tail,
-    F0 where it clips)."""
+    F0 where it clips). Solved once per keyword and K: the plan asks at every run."""
     r = solve_collision(match_K)
     return float(r["eps_x0"] if KEYWORDS[keyword].criterion == "x0" else r["eps_F0"])
 
