@@ -52,12 +52,12 @@ if sweep and {mode!r} == "hog":  # 3 GiB, every page touched, held until killed
 if sweep and {mode!r} == "hold":  # waits while the file HOLD_FILE exists, then runs LAMMPS
     while os.path.exists(os.environ["HOLD_FILE"]):
         time.sleep(0.2)
-if sweep and {mode!r} == "scale-e":  # the keyword's restitution (LAMMPS tsuji, LIGGGHTS's) x (1 + 1e-4) in the deck
+if sweep and {mode!r} == "scale-e":  # the keyword's e (LAMMPS tsuji, LIGGGHTS's), a dashpot's eta_n x (1 + 1e-4)
     import re
     script = args[args.index("-in") + 1]
     text = open(script).read()
     scale = lambda m: m.group(1) + repr(float(m.group(2)) * (1 + 1e-4)) + m.group(3)
-    text = re.sub(r"(hertz/material \\S+ )(\\S+)( 0\\.0 damping tsuji)", scale, text)
+    text = re.sub(r"(hertz/material \\S+ )(\\S+)( 0\\.0 damping (?:tsuji|velocity|mass_velocity) )", scale, text)
     text = re.sub(r'(variable restitution index ")([^"]+)(")', scale, text)
     open(script, "w").write(text)
 rc = subprocess.call([{real!r}, *args])
@@ -198,6 +198,23 @@ def test_a_keyword_told_a_restitution_1e_4_off_fails_its_own_checks(project, tmp
     assert f"{code}.default.sphere-sphere.x0.eps" in failing
     assert not any(".viscoelastic." in f for f in failing)
     assert f"{code} default sphere-sphere x0 eps: " in out.stdout + out.stderr
+
+
+def test_a_dashpot_whose_coefficient_is_1e_4_off_fails_its_own_checks(project, tmp_path):
+    """LAMMPS's damping velocity and mass_velocity (laws of their own) with the eta_n of the generated
+    deck scaled by (1 + 1e-4): each law's checks against its own equation fail, named; the
+    viscoelastic law's pass. Unscaled, the same study passes."""
+    laws = "laws=[viscoelastic,velocity,mass_velocity]"
+    ok = study(project, laws)
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    out = study(project, laws, env=faulty_lammps(tmp_path, "scale-e"), extra=("--forceall",))
+    assert out.returncode != 0
+    n, failing = junit(project)
+    assert n == 12  # viscoelastic x0, F0 and each dashpot's x0, each T, A, eps
+    for law in ("velocity", "mass_velocity"):
+        assert f"lammps.{law}.sphere-sphere.x0.eps" in failing
+        assert f"lammps {law} sphere-sphere x0 eps: " in out.stdout + out.stderr
+    assert not any(".viscoelastic." in f for f in failing)
 
 
 def test_too_tight_tolerance_fails_and_no_earlier_pass_survives(project):
