@@ -163,7 +163,7 @@ ci-study: engines lammps-2025 kratos-10.4 yade-2025 venv
 
 # YADE 2025.2.0 of Debian 13 (trixie) beside Debian 12's 2023.02a: a debootstrap root in
 # .yade-2025/root and the wrapper .yade-2025/yade, which runs the root's yade through bubblewrap
-# on the host's files (the root as /, /work, /tmp and the current directory at their own paths):
+# on the host's files (the root as /, every host directory but the OS's at its own path):
 #   .yade-2025/yade -n -x script.py args...
 # Idempotent: nothing to do when the wrapper works; each missing step says what it does.
 YADE2025 := .yade-2025
@@ -172,8 +172,15 @@ define YADE2025_WRAPPER
 #!/bin/bash
 # YADE 2025.2.0 of Debian 13 (make yade-2025): the root's yade on the host's files.
 root="$$(dirname "$$(readlink -f "$$0")")/root"
-args=(--bind "$$root" / --proc /proc --dev /dev --ro-bind /sys /sys --bind /work /work --bind /tmp /tmp)
-case "$$PWD" in /work|/work/*|/tmp|/tmp/*) ;; *) [ "$$PWD" = / ] || args+=(--bind "$$PWD" "$$PWD") ;; esac
+args=(--bind "$$root" / --proc /proc --dev /dev --ro-bind /sys /sys)
+# Every host directory at its own path but the host's OS, so that a project cloned anywhere
+# (/work, /check, a home, /tmp) reads and writes the same files inside as outside.
+os_dirs=" /bin /boot /dev /etc /lib /lib32 /lib64 /libx32 /lost+found /proc /run /sbin /sys /usr /var "
+for d in /*; do
+  [ -d "$$d" ] && [ ! -L "$$d" ] && [[ "$$os_dirs" != *" $$d "* ]] && args+=(--bind "$$d" "$$d")
+done
+rest="$${PWD#/}"; top="/$${rest%%/*}"
+[[ "$$os_dirs" == *" $$top "* ]] && args+=(--bind "$$PWD" "$$PWD")
 args+=(--chdir "$$PWD" --die-with-parent --setenv PATH /usr/local/bin:/usr/bin:/bin)
 args+=(--unsetenv PYTHONPATH --unsetenv PYTHONHOME --unsetenv VIRTUAL_ENV --unsetenv LD_LIBRARY_PATH)
 exec bwrap "$${args[@]}" yade "$$@"
@@ -182,10 +189,12 @@ export YADE2025_WRAPPER
 
 yade-2025: $(YADE2025)/yade
 
-$(YADE2025)/yade:
+# Rewritten when this Makefile's wrapper changes (the recipe compares them).
+$(YADE2025)/yade: Makefile
 	@set -e; \
-	if [ -x $(YADE2025)/yade ] && v=$$($(YADE2025)/yade --version 2>/dev/null | grep '^Yade version: 2025'); then \
-	  echo "yade-2025: $(YADE2025)/yade works ($$v)"; exit 0; fi; \
+	if [ -x $(YADE2025)/yade ] && [ "$$(cat $(YADE2025)/yade)" = "$$YADE2025_WRAPPER" ] && \
+	   v=$$($(YADE2025)/yade --version 2>/dev/null | grep '^Yade version: 2025'); then \
+	  touch $(YADE2025)/yade; echo "yade-2025: $(YADE2025)/yade works ($$v)"; exit 0; fi; \
 	if ! command -v debootstrap >/dev/null || ! command -v bwrap >/dev/null; then \
 	  echo "yade-2025: apt-get install -y debootstrap bubblewrap"; \
 	  $(SUDO) apt-get update && $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y debootstrap bubblewrap; \

@@ -68,3 +68,32 @@ def test_default_law_restitutes_what_the_user_asked_at_every_velocity(sweep, geo
     assert fast.eps_F0 == pytest.approx(asked, abs=1e-3)
     assert slow.eps_F0 == pytest.approx(fast.eps_F0, abs=1e-5)
     assert solve_collision(0.1 * 0.01 ** 0.2)["eps_F0"] - slow.eps_F0 > 0.05
+
+
+def test_yade_2025_wrapper_reads_and_writes_wherever_the_project_is_cloned(tmp_path):
+    """make yade-2025's wrapper runs Debian 13's yade in its own root; the host's directories must
+    appear there at their own paths. CI clones the project under /check, not /work: a wrapper that
+    bound /work and /tmp only ran nothing there. Here a script and its output live in the user's
+    home (outside /work and /tmp) and YADE runs from tmp_path."""
+    import subprocess
+    import tempfile
+    from pathlib import Path
+
+    import yaml
+
+    from engines.builds import load_builds
+    from engines.codes import CODES
+    from engine_cases import missing
+
+    root = Path(__file__).resolve().parents[1]
+    builds = load_builds(yaml.safe_load((root / "config" / "config.yaml").read_text())["builds"], root)
+    build = next(b for b in builds if b.id == "yade-2025")
+    if not Path(build.executable).exists():
+        missing(f"{build.executable} is not installed; {CODES['yade'].install_hint}")
+    with tempfile.TemporaryDirectory(dir=Path.home(), prefix=".hertz-wrapper-") as elsewhere:
+        script, out = Path(elsewhere) / "script.py", Path(elsewhere) / "out.txt"
+        script.write_text("import os, sys\nopen(sys.argv[1], 'w').write(os.getcwd())\n")
+        run = subprocess.run([build.executable, "-n", "-x", str(script), str(out)], cwd=tmp_path,
+                             capture_output=True, text=True, timeout=120)
+        assert run.returncode == 0, run.stderr[-2000:]
+        assert out.read_text() == str(tmp_path)  # its output on the host, and its cwd kept
