@@ -5,6 +5,7 @@
     snakemake -j2 results/steel/summary.csv
     snakemake -j2 calibration         eta fitted to every case with measurements (results/calibration/)
     snakemake -j2 keywords            each build's restitution keyword over e: its promise (results/keywords/)
+    snakemake -j2 history             every release of each code against the checks and known defects (results/history/)
 
 Settings: config/config.yaml (validated against config/config.schema.yaml). Logs: logs/,
 benchmarks: logs/benchmarks/<case>/<build>.tsv, results: results/. The rules live in
@@ -101,13 +102,14 @@ include: "workflow/rules/paper.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/compare.smk"
 include: "workflow/rules/keywords.smk"
+include: "workflow/rules/history.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used. Every other
 # rule's job is a SLURM job of its own there (profiles/slurm), with its cluster_resources.
 localrules: all, plan, summary, lammps_regressions, reference_tables, checks, report, gate, case_verdict, case_gate, calibration,
             calibration_report,
             compare, compare_studies, compare_gate, compare_builds, convergence_summary, paper_figure_3, paper_figure_4,
-            keywords, keywords_summary
+            keywords, keywords_summary, history, history_summary
 
 # The rules whose failure is a verdict: a gate exits non-zero on FAIL, after writing it.
 VERDICT_RULES = ("gate", "case_gate", "compare_gate")
@@ -135,6 +137,7 @@ wildcard_constraints:
     build="|".join(map(re.escape, BUILD_IDS)),
     lammps_build="|".join(map(re.escape, LAMMPS_BUILDS)) or "(?!)",
     cal_case="|".join(map(re.escape, CALIBRATION_CASES)) or "(?!)",
+    release="|".join(map(re.escape, HISTORY_RELEASES)) or "(?!)",
 
 # Bad case files and builds, every one named with what to do, stop the workflow before any job
 # starts, with their messages alone: a WorkflowError would add the lines of the Snakefile and

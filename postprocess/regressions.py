@@ -56,11 +56,18 @@ def regression_table(cases, sweep, build: str) -> pd.DataFrame:
 
 def _x0_limit(rungs, sweep) -> dict:
     """The x0 limit row (`postprocess.extrapolation`) of one ladder's dumps in `sweep`."""
+    return ladder_limit(rungs, sweep, "x0")
+
+
+def ladder_limit(rungs, sweep, criterion: str) -> dict:
+    """The limit row dt -> 0 (`postprocess.extrapolation`: err_<q>, resolution_<q>, rungs_<q> for
+    T, A and eps) of one ladder's dumps in `sweep` (an `engines.Sweep`), under `criterion` ('x0'
+    or 'F0')."""
     runs = []
     for spec in rungs:
         meta, c = read_dump(sweep.dumps[spec.name])
         m = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
                               meta["impact_velocity"])
-        runs += [{**r, "run": spec.name} for r in comparison_rows(meta, m) if r["criterion"] == "x0"]
+        runs += [{**r, "run": spec.name} for r in comparison_rows(meta, m) if r["criterion"] == criterion]
     (limit,) = extrapolated_rows(pd.DataFrame(runs)).to_dict("records")
     return limit

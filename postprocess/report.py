@@ -598,8 +598,13 @@ table.matrix .res{font-size:11px;opacity:0.8}
 
 
 def _write_html(markdown_text: str, path: Path) -> None:
+    write_html(markdown_text, path, "Hertz DEM comparison report")
+
+
+def write_html(markdown_text: str, path: Path, title: str) -> None:
+    """The page of `markdown_text` (with tables) in the report's style, written atomically."""
     import markdown
 
     body = markdown.markdown(markdown_text, extensions=["tables"])
-    write_atomically(path, "<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
+    write_atomically(path, f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
                     f"<style>{CSS}</style></head><body>{body}</body></html>")

@@ -168,9 +168,10 @@ class Recorder(DEMAnalysisStage):
         super().Initialize()
         p = self.DEM_parameters
         on = [name for name, value in (
-            ("post_normal_impact_velocity_option", self.post_normal_impact_velocity_option),
+            # getattr: releases before an option (9.5 has no servo loading) cannot turn it on
+            ("post_normal_impact_velocity_option", getattr(self, "post_normal_impact_velocity_option", False)),
             ("ContactMeshOption", p["ContactMeshOption"].GetBool()),
-            ("bounding_box_servo_loading_option", self.bounding_box_servo_loading_option),
+            ("bounding_box_servo_loading_option", getattr(self, "bounding_box_servo_loading_option", False)),
             ("Dimension 2", p["Dimension"].GetInt() == 2),
             ("BoundingBoxMoveOption", p.Has("BoundingBoxMoveOption") and p["BoundingBoxMoveOption"].GetBool())) if value]
         if on:

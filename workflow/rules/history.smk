@@ -1,0 +1,82 @@
+# Every release of each code against the study's reduced checks and the defects it found
+# (snakemake -j2 history; results/history/, postprocess/history.py). Not part of `all`, and no
+# verdict: a defect of a release is a finding about that release. PyPI releases are installed on
+# demand (`make build <code>==<release>`, a venv each); a release that cannot be installed is a row
+# naming the command, and the other releases still run. On the cluster (profiles/slurm) the install
+# and the runs of one release are one job (group `history`): SLURM's per-job cost once per release.
+
+HISTORY = config["history"]
+
+
+def history_releases():
+    """{release id: {code, release, build (a study build, as data) or install (the command)}}, in
+    config order: the study builds of history.builds, then history.releases' PyPI releases."""
+    out = {}
+    for build_id in HISTORY["builds"]:
+        if build_id not in BUILDS:
+            SETUP_PROBLEMS.append(f"config 'history.builds': {build_id!r} is not the id of a build of this run "
+                                  f"(config 'builds:' has {', '.join(BUILDS)})")
+            continue
+        out[build_id] = {"code": BUILDS[build_id].code, "release": build_id, "build": build_params(build_id)}
+    for code, releases in HISTORY["releases"].items():
+        for release in releases:
+            release = str(release)
+            out[f"{code}-{release}"] = {"code": code, "release": release,
+                                        "install": f"make build {code}=={release}"}
+    return out
+
+
+HISTORY_RELEASES = history_releases()
+
+
+rule history_install:
+    """One release as a build: a study build's version banner, or a PyPI release installed with
+    `make build <code>==<release>` (idempotent) and its banner; a release that cannot be installed
+    writes why (the command and its output), not an error, so that the other releases still run."""
+    output: "results/history/installs/{release}.json"
+    log: "logs/history/install/{release}.log"
+    benchmark: "logs/benchmarks/history_install/{release}.tsv"
+    params: spec=lambda w: HISTORY_RELEASES[w.release], project=workflow.basedir
+    group: "history"
+    resources: **cluster_resources(runtime=30, mem_mb=2000)
+    script: "../scripts/history_install.py"
+
+
+rule history_runs:
+    """One release's checks (postprocess.history): the reduced cases' viscoelastic ladders, its
+    restitution keywords' promise, and its code's regression cases; results/history/<release>.csv."""
+    input:
+        install="results/history/installs/{release}.json",
+        cases=HISTORY["cases"],
+        decks=lambda w: DECKS[HISTORY_RELEASES[w.release]["code"]],
+    output:
+        rows="results/history/{release}.csv",
+        runs=directory("results/history/{release}/runs"),
+        manifest="results/history/{release}/manifest.json",
+    log: "logs/history/{release}.log"
+    benchmark: "logs/benchmarks/history_runs/{release}.tsv"
+    params: spec=lambda w: HISTORY_RELEASES[w.release], history=HISTORY, ladder=config["ladder"],
+            tolerance=config["tolerance"], timeout_floor_s=config["engine_timeout_floor_s"]
+    group: "history"
+    threads: lambda w: CODES[HISTORY_RELEASES[w.release]["code"]].processes
+    resources: **cluster_resources(runtime=60, mem_mb=2000)
+    script: "../scripts/history_runs.py"
+
+
+rule history_summary:
+    """history.csv (code, release, check, status, error, resolution, ...), history.md and .html (a
+    release x check matrix per code, each defect as a sentence) and history.png (each check's error
+    against release)."""
+    input: expand("results/history/{release}.csv", release=HISTORY_RELEASES)
+    output:
+        csv="results/history/history.csv",
+        md="results/history/history.md",
+        html="results/history/history.html",
+        png="results/history/history.png",
+    log: "logs/history/summary.log"
+    benchmark: "logs/benchmarks/history_summary/all.tsv"
+    script: "../scripts/history_summary.py"
+
+
+rule history:
+    input: rules.history_summary.output

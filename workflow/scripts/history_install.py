@@ -1,0 +1,53 @@
+"""Snakemake script: one release of the history as a build (results/history/installs/<release>.json).
+
+A study build (config history.builds) is asked for its version as the study asks it. A PyPI release
+is installed with the command a user types, `make build <code>==<release>` (one venv per release;
+nothing to do when it is there), whose output names the banner and the `builds:` entry. A release
+that cannot be installed (no network, a yanked version) or that reports another version is written
+as such, naming the release and the command: its checks are rows of their own, not a failed job, and
+the other releases still run."""
+
+import json
+import re
+import subprocess
+
+from common import log_to
+from engines.builds import Build, BuildError, check_build
+from postprocess.history import banner_matches
+
+log = log_to(snakemake.log[0])
+spec = dict(snakemake.params.spec)
+out = {"code": spec["code"], "release": spec["release"], "command": spec.get("install", ""), "build": None,
+       "banner": "", "problem": ""}
+if "build" in spec:
+    build = Build(**spec["build"])
+else:
+    command = spec["install"].split()
+    log.info("%s (in %s)", spec["install"], snakemake.params.project)
+    try:
+        done = subprocess.run(command + ["-s"], cwd=snakemake.params.project, capture_output=True, text=True,
+                              timeout=1800)
+        text, status = done.stdout + done.stderr, f"exit {done.returncode}"
+        ok = done.returncode == 0
+    except subprocess.TimeoutExpired as err:
+        text, status, ok = "", f"did not finish within {err.timeout:g} s", False
+    log.info("its output:\n%s", text)
+    entry = re.search(r"\{id: (\S+), code: (\S+), executable: (\S+)\}", text)
+    if not ok or entry is None:
+        tail = " | ".join(text.strip().splitlines()[-4:]) or "nothing"
+        out["problem"] = f"`{spec['install']}` failed ({status}): {tail}"
+        build = None
+    else:
+        build = Build(entry.group(1), entry.group(2), str((snakemake.params.project + "/" + entry.group(3))))
+if build is not None:
+    out["build"] = {"id": build.id, "code": build.code, "executable": build.executable}
+    try:
+        out["banner"] = check_build(build)
+    except BuildError as err:
+        out["problem"] = str(err)
+    if out["banner"] and "install" in spec and not banner_matches(spec["code"], spec["release"], out["banner"]):
+        out["problem"] = (f"`{spec['install']}` installed {out['banner']!r}, which is not release {spec['release']} "
+                          f"of {spec['code']}")
+log.info("%s", json.dumps(out))
+with open(snakemake.output[0], "w") as f:
+    json.dump(out, f, indent=1)

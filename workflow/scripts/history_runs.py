@@ -1,0 +1,132 @@
+"""Snakemake script: one release's checks of the history (postprocess.history), in as few engine
+processes as its code allows: the reduced cases' viscoelastic ladders and its restitution keywords'
+promise in one sweep, its code's regression cases (LAMMPS) in theirs.
+
+No verdict is withdrawn or marked stale: these runs are not the study's results (log_to)."""
+
+import json
+
+import pandas as pd
+
+from common import log_to
+from contact_model import load_case
+from contact_model.keywords import KEYWORDS, keyword_reference, missing_in, release_date
+from contact_model.laws import KEYWORD_LAWS, LAW_REGISTRY
+from engines import RunSpec, run_sweep
+from engines.builds import Build
+from engines.codes import keyword_of, law_unavailable
+from engines.plan import ladder_factors
+from postprocess.history import (COLUMNS, REGRESSION_CHECKS, date_text, limit_check, not_run_rows, promise_check,
+                                 promise_check_row)
+from postprocess.keyword_promise import promise_rows
+from postprocess.regressions import ladder_limit, regression_table
+from records.collision_metrics import collision_metrics
+from records.dump_file import read_dump
+from records.run_manifest import write_manifest
+
+log = log_to(snakemake.log[0])
+spec = snakemake.params.spec
+h = snakemake.params.history
+tolerance = {q: float(v) for q, v in snakemake.params.tolerance.items()}
+install = json.loads(open(snakemake.input.install).read())
+code = spec["code"]
+base = {"code": code, "release": spec["release"], "build": (install["build"] or {}).get("id", ""),
+        "banner": install["banner"], "date": date_text(release_date(install["banner"]))}
+rows = [{**base, "check": "version banner", "status": "fail" if install["problem"] else "pass", "error": float("nan"),
+         "resolution": float("nan"), "tolerance": float("nan"),
+         "detail": install["problem"] or f"{install['banner']} (release {spec['release']})", "defect": ""}]
+
+# The checks this release is asked for, each with its runs.
+ladders = {}  # check -> (criterion, [RunSpec])
+keywords = {}  # keyword -> {e: [RunSpec]}
+unavailable = {}  # check -> why not
+for path in h["cases"]:
+    case = load_case(path)
+    for pair in case.pairs:
+        for law in h["laws"]:
+            if law_unavailable(code, law) is not None:
+                continue
+            for V in case.impact_velocities(pair, h["K"]):
+                K = pair.dissipation_parameter(V)
+                check = f"{law} {pair.geometry}" + (f" {case.name} K={K:.3g}" if len(h["cases"]) + len(h["K"]) > 2
+                                                     else "")
+                ladders[check] = (LAW_REGISTRY[law].criteria[0],  # x0 with the tail kept, F0 clipped
+                                  [RunSpec(case.name, code, law, pair, V, f, build=base["build"])
+                                   for f in ladder_factors(snakemake.params.ladder, law, K)])
+first_case = load_case(h["cases"][0])
+for law_name in KEYWORD_LAWS:
+    name = keyword_of(law_name, code)
+    if name is None or law_unavailable(code, law_name) is not None or KEYWORDS[name].told != "e" or name in keywords:
+        continue
+    if install["banner"] and missing_in(name, install["banner"]):
+        unavailable[promise_check(name)] = missing_in(name, install["banner"])
+        continue
+    pair = first_case.pairs[0]
+    V = first_case.impact_velocities(pair, h["K"])[0]
+    keywords[name] = {float(e): [RunSpec("history", code, law_name, pair, V, f, matched_restitution=float(e),
+                                         build=base["build"],
+                                         reference=keyword_reference(name, float(e), pair.dissipation_parameter(V)))
+                                 for f in ladder_factors(snakemake.params.ladder, law_name, 0.1)]
+                      for e in h["restitution"] if not KEYWORDS[name].refuses(float(e))}
+checks = [*ladders, *(REGRESSION_CHECKS.values() if code == "lammps" else ()),
+          *(promise_check(k) for k in keywords), *unavailable]
+
+if install["build"] is None or install["problem"]:
+    status = "not installed" if install["build"] is None else "run failed"
+    rows += not_run_rows(base, [c for c in checks if c not in unavailable], status,
+                         install["problem"] or "no build")
+    dumps, failed, seconds = [], [], 0.0
+else:
+    build = Build(**install["build"])
+    runs = [r for _, rungs in ladders.values() for r in rungs]
+    runs += [r for by_e in keywords.values() for rungs in by_e.values() for r in rungs]
+    log.info("%s (%s): %d ladders, %d keywords, %d runs", build.id, install["banner"], len(ladders), len(keywords),
+             len(runs))
+    sweep = run_sweep(build, runs, f"{snakemake.output.runs}/cases", timeout_floor_s=snakemake.params.timeout_floor_s)
+    seconds = sweep.engine_seconds
+    for check, (criterion, rungs) in ladders.items():
+        failed = [sweep.failures.get(r.name, "no dump") for r in rungs if r.name not in sweep.dumps]
+        rows.append(limit_check(base, check, None if failed else ladder_limit(rungs, sweep, criterion), tolerance,
+                                problem=str(failed[0]).splitlines()[0] if failed else ""))
+    metrics = {}
+    for name, path in sweep.dumps.items():
+        meta, c = read_dump(path)
+        metrics[name] = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
+                                          impact_velocity=meta["impact_velocity"])
+    failures = {name: str(err) for name, err in sweep.failures.items()}
+    for name, by_e in keywords.items():
+        rows.append(promise_check_row(base, name, promise_rows(build.id, code, KEYWORDS[name], by_e, metrics,
+                                                               failures), float(h["promise_tolerance"])))
+    dumps = list(sweep.dumps.values())
+    failed = sweep.failed_runs(runs)
+    if code == "lammps":
+        from engines.lammps import run_regression_cases
+
+        cases, regressions = run_regression_cases(f"{snakemake.output.runs}/regressions",
+                                                  executable=build.executable, build=build.id,
+                                                  timeout_floor_s=snakemake.params.timeout_floor_s)
+        seconds += regressions.engine_seconds
+        dumps += list(regressions.dumps.values())
+        table = regression_table(cases, regressions, build.id)
+        for case in cases:
+            user = table[(table.case == case.name) & (table.role == "user")].iloc[0].to_dict()
+            control = table[(table.case == case.name) & (table.role == "control")].iloc[0].to_dict()
+            problem = user["problem"] if isinstance(user["problem"], str) else ""
+            row = limit_check(base, REGRESSION_CHECKS[case.name], None if problem else user, tolerance, problem)
+            control_problem = control["problem"] if isinstance(control["problem"], str) else ""
+            control_row = limit_check(base, "control", None if control_problem else control, tolerance,
+                                      control_problem)
+            if control_row["status"] != "pass":  # the case proves nothing if its control is off
+                row.update(status="run failed", detail=f"its control run is off: {control_row['detail']}")
+            elif problem:  # the contact as a user writes it breaks the run, as written as the study writes it not
+                row.update(status="fail", detail=f"the run as a user writes it did not complete ({problem}); "
+                                                 "its control did")
+            rows.append(row)
+for check, why in unavailable.items():
+    rows.append({**base, "check": check, "status": "not available", "error": float("nan"),
+                 "resolution": float("nan"), "tolerance": float("nan"), "detail": why, "defect": ""})
+pd.DataFrame(rows, columns=COLUMNS).to_csv(snakemake.output.rows, index=False, float_format="%.12g")
+write_manifest(snakemake.output.manifest, dumps, failed, case="history", build=base["build"], engine=code,
+               engine_seconds=seconds)
+for r in rows:
+    log.info("%s %s: %s %s", spec["release"], r["check"], r["status"], r["detail"])
