@@ -79,6 +79,40 @@ def lammps_tsuji_alpha(e: float) -> float:
             + 4.8218 * e**6)
 
 
+#: YADE's [3/6] Pade approximant of Mueller & Poeschel (2011)'s eps(v*), as YADE 2024.02a and later
+#: code it (pkg/dem/HertzMindlin.cpp:26-27 @2025.2.0): (numerator, denominator) coefficients of
+#: v*^0, v*^1, ... The `en` + `vn` route solves eps(v*) = en for v* and sets beta = v*^2 vn^(-1/5).
+YADE_PADE = ((1.0, 1.07232, 0.574198, 0.141552), (1.0, 1.07232, 1.72765, 1.37842, 1.19449, 0.467273, 0.235585))
+
+
+def yade_pade_restitution(v: float) -> float:
+    """eps(v*) of YADE's Pade approximant (`YADE_PADE`)."""
+    num, den = (sum(c * v**i for i, c in enumerate(cs)) for cs in YADE_PADE)
+    return num / den
+
+
+@functools.lru_cache(maxsize=256)
+def yade_vstar(e: float) -> float:
+    """The v* >= 0 at which YADE's Pade gives e (YADE's getVstar solves the same equation by Newton
+    from 0.5 to machine precision, HertzMindlin.cpp:88-114 @2025.2.0); 0 at e = 1."""
+    from scipy.optimize import brentq
+
+    if e >= 1.0:
+        return 0.0
+    hi = 1.0
+    while yade_pade_restitution(hi) > e:  # eps(v*) falls from 1 to 0
+        hi *= 2.0
+    return brentq(lambda v: yade_pade_restitution(v) - e, 0.0, hi, xtol=1e-16, rtol=8.9e-16, maxiter=500)
+
+
+def yade_en_vn_K(e: float, velocity_ratio: float = 1.0) -> float:
+    """K of YADE's `en` + `vn` route: its force is Brilliantov's, F_d = (3/2) A k_no delta^{1/2}
+    d(delta)/dt with A = (2/3) beta (k_no/m)^(-2/5) (HertzMindlin.cpp:469-470), beta = v*(e)^2
+    vn^(-1/5); in the study's units K = (5/4)^{3/5} beta V^{1/5} = (5/4)^{3/5} v*(e)^2 (V/vn)^{1/5},
+    V/vn = `velocity_ratio` (1 when the user gives vn = the impact velocity)."""
+    return 1.25**0.6 * yade_vstar(e) ** 2 * velocity_ratio**0.2
+
+
 #: sqrt(15/2): b per unit of a coefficient c in c_n = 2 c sqrt(M* k_t), k_t = 2 E* sqrt(R* delta)
 #: (the tangent stiffness; YADE and Kratos).
 ROOT_15_2 = math.sqrt(7.5)
@@ -147,8 +181,9 @@ class Keyword:
 
     def b(self, told: float) -> float:
         """The coefficient of its equation for the told value: b of x'' + b x^{1/4} x' + (5/4)
-        x^{3/2} = 0 (form 'quarter'), c of x'' + c x' + (5/4) x^{3/2} = 0 (form 'velocity', told
-        the dimensionless c itself: its code's eta_n is c M* V / delta_e or c V / delta_e)."""
+        x^{3/2} = 0 (form 'quarter'), K of x'' + K x^{1/2} x' + (5/4) x^{3/2} = 0 (form 'half'), c of
+        x'' + c x' + (5/4) x^{3/2} = 0 (form 'velocity', told the dimensionless c itself: its code's
+        eta_n is c M* V / delta_e or c V / delta_e)."""
         if self.coefficient is None:
             raise ValueError(f"{self.name} has no map to the coefficient of its equation")
         return self.coefficient(told)
@@ -204,6 +239,11 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
             lambda beta: ROOT_15_2 * beta, "2023.02a",
             "pkg/dem/HertzMindlin.cpp:106-109, :352-356, :389-402 @2023.02a", accepts=(0.0, 1e300),
             from_restitution=thornton_beta),
+    Keyword("yade:en-vn", "yade", "Ip2_FrictMat_FrictMat_MindlinPhys(en=e, vn=V)", "half", True, "e",
+            yade_en_vn_K, "2024.02a ... (not in 2023.02a)",
+            "pkg/dem/HertzMindlin.cpp:26-27 (the Pade), :88-114 (getVstar), :180-183 (beta = v*^2 vn^-0.2), "
+            ":469-471 (A = (2/3) beta (kno/mbar)^-0.4, c_n = A k_n), :507-513 (the clip) @2025.2.0; told vn = the "
+            "impact velocity", since=(2024, 2, 1)),
     Keyword("kratos:hertz-COEFFICIENT_OF_RESTITUTION", "kratos",
             "DEM_D_Hertz_viscous_Coulomb with COEFFICIENT_OF_RESTITUTION", "quarter", True, "e",
             lambda e: ROOT_15_2 * kratos_gamma(e), "9.3 ... 10.4",
@@ -226,6 +266,10 @@ def promised_restitution(keyword: str, e: float) -> float:
         from reference.linear_damping import restitution_linear_damping
 
         return restitution_linear_damping(k.b(k.told_for(e)), k.criterion)
+    if k.form == "half":  # Brilliantov's law itself, at its K
+        from reference import solve_collision
+
+        return solve_collision(k.b(k.told_for(e)))[f"eps_{k.criterion}"]
     from reference.quarter_power_damping import restitution_quarter_power
 
     return restitution_quarter_power(k.b(k.told_for(e)), k.criterion)
@@ -236,11 +280,14 @@ _MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct",
 
 def release_date(banner: str) -> tuple[int, int, int] | None:
     """(year, month, day) of a version banner that dates its release ('LAMMPS (29 Sep 2021 -
-    Update 2)'), None when it names no date."""
+    Update 2)'; 'Yade version: 2025.2.0' is (2025, 2, 1)), None when it names no date."""
     import re
 
     m = re.search(r"\b(\d{1,2}) (" + "|".join(_MONTHS) + r")[a-z]* (\d{4})\b", banner)
-    return (int(m.group(3)), _MONTHS.index(m.group(2)) + 1, int(m.group(1))) if m else None
+    if m:
+        return (int(m.group(3)), _MONTHS.index(m.group(2)) + 1, int(m.group(1)))
+    yade = re.search(r"Yade version: (\d{4})\.(\d{1,2})", banner)  # YADE numbers releases year.month
+    return (int(yade.group(1)), int(yade.group(2)), 1) if yade else None
 
 
 def missing_in(keyword: str, banner: str) -> str | None:
@@ -276,6 +323,12 @@ def _own_row(keyword: str, told: float) -> dict:
 
         row = solve_linear_damping(k.b(k.told_for(told)))
         return {**row, "b": row["c"], "tau_return": row["tau_0"]}
+    if k.form == "half":  # Brilliantov's law at its K; clipped, it lets go at x = (4/5) K eps_F0
+        from reference import solve_collision
+
+        K = k.b(k.told_for(told))
+        row = {**solve_collision(K), "b": K}
+        return {**row, "tau_return": row["tau_f"] + 0.8 * K if k.clipped else row["tau_0"]}
     row = solve_quarter_power(k.b(k.told_for(told)))
     x_f = (0.8 * row["b"] * row["eps_F0"]) ** 0.8
     return {**row, "tau_return": row["tau_f"] + (x_f / row["eps_F0"] if row["eps_F0"] > 0 else 0.0)}

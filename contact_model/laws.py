@@ -108,6 +108,9 @@ LAW_REGISTRY: dict[str, Law] = {law.name: law for law in (
         False, told="e"),
     Law("betan", "YADE's Hertz-Mindlin told betan (Thornton's beta of the restitution), against its own equation",
         "quarter", True, ("F0",), "F0", False, keyword="yade:betan", told="e"),
+    Law("en_vn", "YADE's Hertz-Mindlin told en and vn (Mueller & Poeschel's Pade route to Brilliantov's law, "
+        "YADE 2024.02a and later), against its own equation", "half", True, ("F0",), "F0", False,
+        keyword="yade:en-vn", told="e"),
     Law("coeff_restitution", "LAMMPS's hertz/material with damping coeff_restitution, against its own equation",
         "quarter", False, ("x0",), "x0", False, keyword="lammps:coeff_restitution", told="e"),
     Law("velocity", "LAMMPS's hertz/material with damping velocity (F_d = -eta_n d(delta)/dt), against its own "

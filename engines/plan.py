@@ -79,20 +79,31 @@ class PlanError(CaseError):
     """A case the engines cannot run honestly; the message names the case file and the field."""
 
 
-def ladder_factors(ladder: dict, law: str, K: float) -> list[float]:
+def ladder_factors(ladder: dict, law: str, K: float, own_K: float | None = None) -> list[float]:
     """The time-step factors of the rungs of a run of `law` at dissipation parameter K: the
     ladder's 'elastic' factors for the elastic law (or K = 0), its 'dissipative' ones refined by
-    `engines.ladder.rung_factor` for the viscoelastic laws, unrefined for an engine's keyword."""
-    if LAW_REGISTRY[law].is_keyword:  # an engine's keyword: its damping does not grow with K
-        return [float(f) for f in ladder["dissipative"]]
+    `engines.ladder.rung_factor` for the viscoelastic laws, unrefined for an engine's keyword but
+    one whose force is Brilliantov's (YADE's en + vn), refined by its own K `own_K`
+    (`keyword_own_K`)."""
+    if LAW_REGISTRY[law].is_keyword:  # an engine's keyword: its damping does not grow with the pair's K
+        return [float(rung_factor(f, own_K or 0.0)) for f in ladder["dissipative"]]
     if law == "elastic" or K == 0:
         return [float(f) for f in ladder["elastic"]]
     return [float(rung_factor(f, K)) for f in ladder["dissipative"]]
 
 
+def keyword_own_K(keyword: str | None, reference: dict | None) -> float | None:
+    """The K of a keyword whose force is Brilliantov's (form 'half': its reference row's b), which
+    refines its ladder as the viscoelastic law's; None for the others."""
+    if keyword is None or KEYWORDS[keyword].form != "half" or not reference:
+        return None
+    return float(reference["b"])
+
+
 def rungs_of(spec: RunSpec, ladder: dict | None = None) -> list[RunSpec]:
     """`spec` at every time step of its ladder (`ladder_factors`; default DEFAULT_LADDER)."""
-    return [replace(spec, time_step_factor=f) for f in ladder_factors(ladder or DEFAULT_LADDER, spec.law, spec.K)]
+    own = keyword_own_K(spec.keyword, spec.reference)
+    return [replace(spec, time_step_factor=f) for f in ladder_factors(ladder or DEFAULT_LADDER, spec.law, spec.K, own)]
 
 
 def ladder_roundoff(rungs: list[RunSpec]) -> float:
@@ -301,7 +312,7 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                                 "reason": f"told e = {e:.6g} at V = {v:.6g} m/s: {refused}"})
                             continue
                         row = keyword_reference(keyword, e, row["K"])
-                    factors = ladder_factors(ladder, law, row["K"])
+                    factors = ladder_factors(ladder, law, row["K"], keyword_own_K(keyword, row))
                     plan.runs += [RunSpec(case.name, engine, law, pair, v, f, matched_restitution=e, reference=row,
                                           build=build) for f in factors]
     left_out = [law for law in laws if law != "elastic"]

@@ -38,6 +38,10 @@ def job_entry(spec: RunSpec, out: Path) -> dict:
         # Out of the box: the user asks Ip2_FrictMat_FrictMat_MindlinPhys for the restitution
         # coefficient itself (YADE turns en into betan with Thornton et al.'s 2013 fit).
         entry["en"] = spec.matched_restitution
+    elif spec.keyword == "yade:en-vn":
+        # Mueller & Poeschel's route (YADE 2024.02a and later): the restitution at the velocity vn the
+        # user names, here the run's impact velocity; YADE solves its Pade for beta.
+        entry["en"], entry["vn"] = spec.matched_restitution, spec.velocity
     elif spec.keyword == "yade:betan":
         # The damping ratio itself: the one its en would compute (contact_model.keywords).
         entry["betan"] = KEYWORDS[spec.keyword].told_for(spec.matched_restitution)

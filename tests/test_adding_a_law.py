@@ -45,9 +45,10 @@ def recipe_problems(law: Law) -> list[str]:
         check("contact_model/keywords.py", keyword is not None, f"no keyword {law.keyword!r}")
         if keyword is not None:
             check("contact_model/keywords.py",
-                  keyword.form in ("quarter", "velocity") and keyword.coefficient is not None,
+                  keyword.form in ("quarter", "half", "velocity") and keyword.coefficient is not None,
                   f"{law.keyword} has no map to the coefficient of an equation reference solves (x^(1/4) form: "
-                  "reference.quarter_power_damping; linear dashpot: reference.linear_damping)")
+                  "reference.quarter_power_damping; x^(1/2): reference.collision_ode; linear dashpot: "
+                  "reference.linear_damping)")
             check("contact_model/laws.py", keyword.form == law.damping or law.damping == "keyword",
                   f"{law.keyword} is of form {keyword.form!r}, the law says {law.damping!r}")
             check("contact_model/keywords.py", (keyword.criterion,) == law.criteria and keyword.clipped == law.clipped,
@@ -97,7 +98,8 @@ def test_a_law_added_to_the_registry_alone_fails_at_every_place(monkeypatch):
 def test_the_derived_tuples_are_the_registry():
     assert laws_module.LAWS == tuple(LAW_REGISTRY)
     assert set(laws_module.MODEL_LAWS) == {"viscoelastic", "viscoelastic_clipped", "elastic"}
-    assert set(laws_module.KEYWORD_LAWS) == {"default", "betan", "coeff_restitution", "velocity", "mass_velocity"}
+    assert set(laws_module.KEYWORD_LAWS) == {"default", "betan", "en_vn", "coeff_restitution", "velocity",
+                                             "mass_velocity"}
     assert laws_module.LAW_CRITERIA["viscoelastic"] == ("x0", "F0")
     with pytest.raises(ValueError, match="unknown contact law 'viscoelastik'; known: viscoelastic"):
         laws_module.law("viscoelastik")

@@ -16,7 +16,7 @@ from contact_model.laws import KEYWORD_LAWS, LAW_REGISTRY
 from engines import RunSpec, run_sweep
 from engines.builds import Build
 from engines.codes import keyword_of, law_unavailable
-from engines.plan import ladder_factors
+from engines.plan import keyword_own_K, ladder_factors
 from postprocess.history import (COLUMNS, REGRESSION_CHECKS, date_text, limit_check, not_run_rows, promise_check,
                                  promise_check_row)
 from postprocess.keyword_promise import promise_rows
@@ -64,11 +64,15 @@ for law_name in KEYWORD_LAWS:
         continue
     pair = first_case.pairs[0]
     V = first_case.impact_velocities(pair, h["K"])[0]
-    keywords[name] = {float(e): [RunSpec("history", code, law_name, pair, V, f, matched_restitution=float(e),
-                                         build=base["build"],
-                                         reference=keyword_reference(name, float(e), pair.dissipation_parameter(V)))
-                                 for f in ladder_factors(snakemake.params.ladder, law_name, 0.1)]
-                      for e in h["restitution"] if not KEYWORDS[name].refuses(float(e))}
+    keywords[name] = {}
+    for e in h["restitution"]:
+        if KEYWORDS[name].refuses(KEYWORDS[name].told_for(float(e))):
+            continue
+        row = keyword_reference(name, float(e), pair.dissipation_parameter(V))
+        keywords[name][float(e)] = [
+            RunSpec("history", code, law_name, pair, V, f, matched_restitution=float(e), build=base["build"],
+                    reference=row)
+            for f in ladder_factors(snakemake.params.ladder, law_name, 0.0, keyword_own_K(name, row))]
 checks = [*ladders, *(REGRESSION_CHECKS.values() if code == "lammps" else ()),
           *(promise_check(k) for k in keywords), *unavailable]
 

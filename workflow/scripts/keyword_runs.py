@@ -13,7 +13,7 @@ from contact_model.laws import KEYWORD_LAWS
 from engines import RunSpec, run_sweep
 from engines.builds import Build, check_build
 from engines.codes import keyword_of, law_unavailable
-from engines.plan import ladder_factors
+from engines.plan import keyword_own_K, ladder_factors
 from postprocess.keyword_promise import COLUMNS, promise_rows
 from records.collision_metrics import collision_metrics
 from records.dump_file import read_dump
@@ -44,7 +44,7 @@ for name, law_name in keywords.items():
         row = keyword_reference(name, float(e), K)
         rungs[(name, float(e))] = [RunSpec("keywords", build.code, law_name, pair, V, f, matched_restitution=float(e),
                                            build=build.id, reference=row)
-                                   for f in ladder_factors(snakemake.params.ladder, law_name, K)]
+                                   for f in ladder_factors(snakemake.params.ladder, law_name, K, keyword_own_K(name, row))]
 runs = [r for ladder in rungs.values() for r in ladder]
 log.info("%s (%s): %s told %d restitutions, %d runs into %s", build.id, banner, ", ".join(keywords),
          len(k["restitution"]), len(runs), snakemake.output.runs)

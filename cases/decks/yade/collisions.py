@@ -56,7 +56,10 @@ def build(run):
         O.bodies[b].state.vel = (run["v2"], 0, 0)
     else:
         b = O.bodies.append(utils.wall(0.0, axis=0, sense=-1, material=mat))
-    if "en" in run:  # its restitution keyword
+    if "vn" in run:  # its restitution at a velocity (2024.02a and later): Brilliantov's law by Mueller & Poeschel's Pade
+        ip2 = Ip2_FrictMat_FrictMat_MindlinPhys(en=MatchMaker(algo="val", val=run["en"]),
+                                                vn=MatchMaker(algo="val", val=run["vn"]))
+    elif "en" in run:  # its restitution keyword
         ip2 = Ip2_FrictMat_FrictMat_MindlinPhys(en=MatchMaker(algo="val", val=run["en"]))
     elif "betan" in run:  # its damping ratio
         ip2 = Ip2_FrictMat_FrictMat_MindlinPhys(betan=MatchMaker(algo="val", val=run["betan"]))
