@@ -27,14 +27,20 @@ configfile: "config/config.yaml"
 _NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
 
 
+_YAML_WORDS = {"null": None, "~": None, "true": True, "false": False}
+
+
 def numbers_from_strings(value):
-    """--config values nested in a list or mapping arrive as strings ('1e-6', even '0.1'):
-    turn those that are exactly a number into one, recursively; anything else stays as it is
-    and the schema refuses it with its key named."""
+    """--config values nested in a list or mapping arrive as strings ('1e-6', even '0.1', 'null'):
+    turn those that are exactly a number into one, and YAML's null, true and false into None,
+    True and False, recursively; anything else stays as it is and the schema refuses it with its
+    key named."""
     if isinstance(value, dict):
         return {k: numbers_from_strings(v) for k, v in value.items()}
     if isinstance(value, list):
         return [numbers_from_strings(v) for v in value]
+    if isinstance(value, str) and value.strip().lower() in _YAML_WORDS:
+        return _YAML_WORDS[value.strip().lower()]
     if isinstance(value, str) and _NUMBER.fullmatch(value.strip()):
         text = value.strip()
         return int(text) if re.fullmatch(r"[+-]?\d+", text) else float(text)

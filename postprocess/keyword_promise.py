@@ -106,3 +106,34 @@ def plot_promise(table: pd.DataFrame, path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+#: V / vn of `promise_over_velocity`: a decade each side of the velocity a keyword is told.
+VELOCITY_RATIOS = (0.01, 0.1, 0.3, 1.0, 3.0, 10.0)
+
+
+def promise_over_velocity(keyword, restitutions, ratios=VELOCITY_RATIOS) -> pd.DataFrame:
+    """What a keyword told e at the velocity vn restitutes at other impact velocities V, by its own
+    equation (its engines are gated against that equation at V = vn): for a keyword whose force is
+    Brilliantov's (form 'half': YADE's en + vn), eps_F0 of the viscoelastic law at
+    K = (5/4)^{3/5} v*(e)^2 (V/vn)^{1/5} (`contact_model.keywords.yade_en_vn_K`); the other keywords'
+    restitution does not depend on V (form 'quarter') or is told per velocity (form 'velocity').
+
+    Returns
+    -------
+    DataFrame with columns keyword, e_requested, V_over_vn, K, eps_own_equation, err_promise
+    (eps - e); empty for a keyword of another form.
+    """
+    from contact_model.keywords import yade_en_vn_K
+    from reference import solve_collision
+
+    rows = []
+    if keyword.form == "half":
+        for e in restitutions:
+            for r in ratios:
+                K = yade_en_vn_K(float(e), float(r))
+                eps = solve_collision(K)[f"eps_{keyword.criterion}"]
+                rows.append({"keyword": keyword.name, "e_requested": float(e), "V_over_vn": float(r), "K": K,
+                             "eps_own_equation": eps, "err_promise": eps - float(e)})
+    return pd.DataFrame(rows, columns=["keyword", "e_requested", "V_over_vn", "K", "eps_own_equation",
+                                       "err_promise"])

@@ -245,3 +245,36 @@ def test_the_keywords_target_tabulates_each_keywords_promise_against_an_independ
     assert forms.loc[("quarter", "any"), "value"] == pytest.approx(0.8207, abs=1e-4)  # the data's mean
     assert "Follows: half (F0)" in summary and "neither can follow an eps that falls with V" in summary
     assert not (project / "results" / "verdict.json").exists()  # no verdict of the study is touched
+
+
+def test_yade_2025s_en_vn_keeps_its_promise_at_vn_and_drifts_as_brilliantov_away_from_it(tmp_path):
+    """snakemake -j2 keywords with Debian 13's YADE 2025.2.0 told e = 0.3 and 0.8 at vn = V: en + vn
+    delivers Brilliantov's law at the K of its Pade (checked against scipy's DOP853 of that law),
+    2.0e-4 short of e = 0.3 and within 1e-6 of 0.8; told 0.8 at vn, it restitutes 0.86672 at V = vn/10
+    (its own equation; 0.86672 measured in YADE by hand at en = 0.8, vn = 1, V = 0.1). `measured: null`
+    on the command line is YAML's null (no fit), not a file named 'null'."""
+    from contact_model.keywords import KEYWORDS
+    from engine_cases import missing
+    from scipy_solver import solve_collision as scipy_collision
+
+    if not (ROOT / ".yade-2025" / "yade").exists():
+        missing("YADE 2025 is not installed; install it with: make yade-2025")
+    project = copy_workflow(tmp_path / "project")
+    out = snakemake("-j2", "keywords", "--config", "builds=[{id: yade-2025, code: yade, executable: .yade-2025/yade}]",
+                    "keywords={case: cases/steel.yaml, geometry: sphere-sphere, velocity: 1.0, "
+                    "restitution: [0.3, 0.8], measured: null}", cwd=project)
+    assert out.returncode == 0, out.stderr[-3000:]
+    import pandas as pd
+
+    table = pd.read_csv(project / "results" / "keywords" / "promise.csv").set_index(["keyword", "e_requested"])
+    assert {k for k, _ in table.index} == {"yade:en", "yade:en-vn"}
+    for e in (0.3, 0.8):
+        row = table.loc[("yade:en-vn", e)]
+        assert row.eps_own_equation == pytest.approx(scipy_collision(KEYWORDS["yade:en-vn"].b(e))["eps_F0"], abs=1e-9)
+        assert abs(row.err_own_equation) + row.resolution <= 1e-6, row
+    assert table.loc[("yade:en-vn", 0.3)].err_promise == pytest.approx(-2.0e-4, abs=1e-5)
+    assert abs(table.loc[("yade:en-vn", 0.8)].err_promise) < 1e-6
+    over = pd.read_csv(project / "results" / "keywords" / "promise_over_velocity.csv")
+    at = over[(over.e_requested == 0.8) & (over.V_over_vn == 0.1)].eps_own_equation.item()
+    assert at == pytest.approx(0.86672, abs=2e-5)
+    assert "V = 0.1 vn" in (project / "results" / "keywords" / "promise.md").read_text()

@@ -25,7 +25,8 @@ rule keyword_runs:
 rule keywords_summary:
     """promise.csv (every build and e), promise.md (per build: the largest promise error and where,
     and at e = 0.5, 0.8, 0.95) and promise.png (delivered - requested against e); with config
-    keywords.measured, eps_of_velocity.csv and .png: each damping form fitted to the measured eps(V)."""
+    keywords.measured, eps_of_velocity.csv and .png: each damping form fitted to the measured eps(V);
+    promise_over_velocity.csv: a keyword told e at a velocity (YADE's en + vn) at other velocities."""
     input:
         rows=expand("results/keywords/{build}.csv", build=BUILD_IDS),
         measured=config["keywords"].get("measured") or [],
@@ -35,6 +36,7 @@ rule keywords_summary:
         png="results/keywords/promise.png",
         forms="results/keywords/eps_of_velocity.csv",
         forms_png="results/keywords/eps_of_velocity.png",
+        over_velocity="results/keywords/promise_over_velocity.csv",
     log: "logs/keywords/summary.log"
     benchmark: "logs/benchmarks/keywords_summary/all.tsv"
     script: "../scripts/keywords_summary.py"

@@ -23,6 +23,22 @@ lines = ["# The engines' restitution keywords: what they deliver against what th
          "equation (its conformance, gated in the study); the promise errors: delivered - requested.", "",
          summary.to_markdown(index=False, floatfmt=".3g") if len(summary) else "(no keyword delivered a value)", "",
          f"![promise]({Path(snakemake.output.png).name})", ""]
+# A keyword told e at a velocity (YADE's en + vn): what it restitutes away from that velocity.
+from contact_model.keywords import KEYWORDS  # noqa: E402
+from postprocess.keyword_promise import promise_over_velocity  # noqa: E402
+
+told = sorted({float(e) for e in table.e_requested})
+over_v = pd.concat([promise_over_velocity(KEYWORDS[k], told) for k in dict.fromkeys(table.keyword)] or
+                   [promise_over_velocity(KEYWORDS["yade:en-vn"], [])], ignore_index=True)
+over_v.to_csv(snakemake.output.over_velocity, index=False, float_format="%.12g")
+for name, g in over_v.groupby("keyword", sort=False):
+    grid = g.pivot(index="e_requested", columns="V_over_vn", values="eps_own_equation")
+    grid.columns = [f"V = {c:g} vn" for c in grid.columns]
+    lines += [f"## {KEYWORDS[name].written}: away from the velocity it is told", "",
+              "Its force is Brilliantov's, so its restitution falls with V as the viscoelastic law's: told e at vn, "
+              "it restitutes (its own equation, which its engines meet at V = vn; `promise_over_velocity.csv`):", "",
+              grid.reset_index().rename(columns={"e_requested": "told e"}).to_markdown(index=False, floatfmt=".5f"),
+              ""]
 if len(problems):
     lines += ["Not run (the code refuses that e) or failed:", "", *(f"- {r.build} e = {r.e_requested:g}: {r.problem}"
                                          for r in problems.itertuples()), ""]
