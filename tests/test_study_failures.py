@@ -21,7 +21,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from engine_cases import require_engine
+from engine_cases import missing, require_engine
 from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -445,3 +445,43 @@ def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_
                            str(baseline / "results"), "--out", str(tmp_path / "back")], cwd=ROOT,
                           capture_output=True, text=True, timeout=120)
     assert back.returncode == 0 and "0 regressions, 4 fixes" in back.stdout
+
+
+YADE_SCALING_WRAPPER = '''#!{python}
+"""YADE 2025 with the coefficient c of every run of its job file scaled by (1 + {scale!r}): the native
+law's beta is computed from it (cases/decks/yade/collisions.py)."""
+import json, os, sys
+args = sys.argv[1:]
+for a in args:
+    if a.startswith("job="):
+        path = a[4:]
+        job = json.load(open(path))
+        for run in job["runs"]:
+            run["c"] = run["c"] * (1 + {scale!r})
+        json.dump(job, open(path, "w"))
+os.execv({real!r}, [{real!r}, *args])
+'''
+
+
+def test_yade_2025s_own_law_passes_and_its_coefficient_1e_5_off_fails(tmp_path):
+    """YADE 2025.2.0 runs the viscoelastic law clipped with its own Brilliantov force (MindlinPhys.beta,
+    set from the study's c): unmodified it passes the gate at K = 1; with c scaled by (1 + 1e-5) in
+    the job file YADE reads, eps (F0) moves by -6.8e-6 and the gate FAILs, naming the build, law and eps."""
+    real = ROOT / ".yade-2025" / "yade"
+    if not real.exists():
+        missing("YADE 2025 is not installed; install it with: make yade-2025")
+    # ten times the viscosity: K = 1 at the velocity of K = 0.1 (K ~ eta V^(-1/5))
+    project = copy_workflow(tmp_path / "study", CASE.replace("6.7e5 P", "6.7e6 P").replace("K: [0.1]", "K: [1.0]"))
+    wrapper = tmp_path / "yade-scaled"
+    wrapper.write_text(YADE_SCALING_WRAPPER.format(python=sys.executable, scale=1e-5, real=str(real)))
+    wrapper.chmod(0o755)
+    settings = ["laws=[viscoelastic_clipped]", "compare_builds=[]"]
+    ok = study(project, "builds=[{id: yade-2025, code: yade, executable: .yade-2025/yade}]", *settings)
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    assert junit(project) == (3, set())  # T, A and eps (F0), each within 1e-6 with its resolution
+    out = study(project, f"builds=[{{id: yade-2025, code: yade, executable: {wrapper}}}]", *settings,
+                extra=("--forceall",))
+    assert out.returncode != 0
+    n, failing = junit(project)
+    assert n == 3 and "yade-2025.viscoelastic_clipped.sphere-sphere.F0.eps" in failing
+    assert "yade-2025 viscoelastic_clipped sphere-sphere F0 eps: " in out.stdout + out.stderr
