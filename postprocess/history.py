@@ -92,13 +92,28 @@ def date_text(date: tuple[int, int, int] | None) -> str:
     return "" if date is None else f"{date[0]:04d}-{date[1]:02d}-{date[2]:02d}"
 
 
-def release_name(code: str, banner: str, release: str) -> str:
-    """How a sentence names a release: LAMMPS by its banner's date ('2 Aug 2023'), others by the
-    release ('9.5', '2025.2.0')."""
+def banner_date(banner: str) -> str:
+    """The release date a version banner states: '2021-09-29' (LAMMPS: a day), '2023-02' (YADE
+    numbers its releases year.month), '' (Kratos's banner names no date)."""
     date = release_date(banner)
-    if date is not None:
-        return f"{date[2]} {_MONTHS[date[1] - 1]} {date[0]}"
-    return release
+    if date is None:
+        return ""
+    return date_text(date)[:7] if version_of(banner) else date_text(date)
+
+
+def version_of(banner: str) -> str:
+    """The version a YADE or Kratos banner prints ('2023.02a', '9.5.2'); '' for others."""
+    version = re.search(r"(?:Yade version|KratosMultiphysics):? (\S+)", banner)
+    return version.group(1) if version else ""
+
+
+def release_name(code: str, banner: str, release: str) -> str:
+    """How a sentence names a release: LAMMPS by its banner's date ('2 Aug 2023'), YADE and Kratos
+    by the version their banner prints ('2023.02a', '9.5.2'), else the release as configured."""
+    day = re.search(r"\b(\d{1,2} (?:" + "|".join(_MONTHS) + r")[a-z]* \d{4})\b", banner)
+    if day:
+        return day.group(1)
+    return version_of(banner) or release
 
 
 def _version_key(release: str) -> tuple:

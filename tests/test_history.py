@@ -141,7 +141,7 @@ def test_history_finds_each_defect_where_it_is_and_names_a_release_it_could_not_
     assert "wall modulus: present in LAMMPS 29 Sep 2021, fixed in 2 Aug 2023" in page
     assert "mixed pairs: present in LAMMPS 29 Sep 2021, fixed in 2 Aug 2023" in page
     assert "tsuji promise: present in every LAMMPS release run (29 Sep 2021 ... 2 Aug 2023)" in page
-    assert "Thornton fit promise: present in every Kratos release run (9.5)" in page
+    assert "Thornton fit promise: present in every Kratos release run (9.5.2)" in page  # its banner's version
     assert "fix_wall_gran.cpp:160" in page  # the source line of the defect
     assert (project / "results" / "history" / "history.png").stat().st_size > 10_000
     assert "<table>" in (project / "results" / "history" / "history.html").read_text()
@@ -154,7 +154,7 @@ def test_history_through_slurm_gives_the_local_rows_one_job_per_release(releases
 
     cluster = require_slurm()
     history = HISTORY.replace("releases: {lammps: [2023.8.2, 1999.1.1], kratos: [9.5]}",
-                              "releases: {lammps: [2023.8.2]}")
+                              "releases: {lammps: [2023.8.2], kratos: []}")  # --config merges mappings
     local = copy_workflow(tmp_path / "local")
     out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "history", "--config", BUILDS, history],
                          cwd=local, capture_output=True, text=True, timeout=900)
@@ -171,3 +171,13 @@ def test_history_through_slurm_gives_the_local_rows_one_job_per_release(releases
     jobs = jobs_of(project, cluster, since)
     # One SLURM job per release: its install and its runs grouped (group `history`), the summary local.
     assert len(jobs) == 2 and all(j["State"] == "COMPLETED" for j in jobs), jobs
+
+
+def test_a_banner_states_its_date_as_precisely_as_its_code_numbers_releases():
+    from postprocess.history import banner_date, release_name
+
+    assert banner_date("LAMMPS (29 Sep 2021 - Update 2)") == "2021-09-29"
+    assert banner_date("Yade version: 2025.2.0") == "2025-02"  # YADE numbers releases year.month
+    assert banner_date("KratosMultiphysics 9.5.2 DEMApplication 9.5.2") == ""
+    assert release_name("yade", "Yade version: 2023.02a", "yade-2023") == "2023.02a"
+    assert release_name("lammps", "LAMMPS (2 Aug 2023 - Update 3)", "2023.8.2") == "2 Aug 2023"

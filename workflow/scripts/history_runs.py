@@ -11,13 +11,13 @@ import pandas as pd
 
 from common import log_to
 from contact_model import load_case
-from contact_model.keywords import KEYWORDS, keyword_reference, missing_in, release_date
+from contact_model.keywords import KEYWORDS, keyword_reference, missing_in
 from contact_model.laws import KEYWORD_LAWS, LAW_REGISTRY
 from engines import RunSpec, run_sweep
 from engines.builds import Build
 from engines.codes import keyword_of, law_unavailable
 from engines.plan import keyword_own_K, ladder_factors
-from postprocess.history import (COLUMNS, REGRESSION_CHECKS, date_text, limit_check, not_run_rows, promise_check,
+from postprocess.history import (COLUMNS, REGRESSION_CHECKS, banner_date, limit_check, not_run_rows, promise_check,
                                  promise_check_row)
 from postprocess.keyword_promise import promise_rows
 from postprocess.regressions import ladder_limit, regression_table
@@ -32,7 +32,7 @@ tolerance = {q: float(v) for q, v in snakemake.params.tolerance.items()}
 install = json.loads(open(snakemake.input.install).read())
 code = spec["code"]
 base = {"code": code, "release": spec["release"], "build": (install["build"] or {}).get("id", ""),
-        "banner": install["banner"], "date": date_text(release_date(install["banner"]))}
+        "banner": install["banner"], "date": banner_date(install["banner"])}
 rows = [{**base, "check": "version banner", "status": "fail" if install["problem"] else "pass", "error": float("nan"),
          "resolution": float("nan"), "tolerance": float("nan"),
          "detail": install["problem"] or f"{install['banner']} (release {spec['release']})", "defect": ""}]
@@ -125,8 +125,13 @@ else:
             if control_row["status"] != "pass":  # the case proves nothing if its control is off
                 row.update(status="run failed", detail=f"its control run is off: {control_row['detail']}")
             elif problem:  # the contact as a user writes it breaks the run, as written as the study writes it not
-                row.update(status="fail", detail=f"the run as a user writes it did not complete ({problem}); "
-                                                 "its control did")
+                # How it breaks can change from run to run (the 2021 mixed pair reads uninitialised memory: lost
+                # atoms, a missing fix, SIGSEGV): the row names where to read it, this job's log says it.
+                log.info("%s %s: the run as a user writes it did not complete: %s", spec["release"], case.name,
+                         problem)
+                where = str(Path(snakemake.output.runs, "regressions", case.name, "lammps.log"))
+                row.update(status="fail", detail=f"the run as a user writes it did not complete (engine log: {where}; "
+                                                 f"{snakemake.log[0]}); its control did")
             rows.append(row)
 for check, why in unavailable.items():
     rows.append({**base, "check": check, "status": "not available", "error": float("nan"),
