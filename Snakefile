@@ -97,6 +97,7 @@ rule all:
         lambda w: BUILD_PAIR_COMPARISONS,  # config compare_builds (workflow/rules/compare.smk, below)
 
 
+include: "workflow/rules/setup_cache.smk"
 include: "workflow/rules/builds.smk"
 include: "workflow/rules/cases.smk"
 include: "workflow/rules/engines.smk"

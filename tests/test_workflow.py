@@ -278,3 +278,32 @@ def test_yade_2025s_en_vn_keeps_its_promise_at_vn_and_drifts_as_brilliantov_away
     at = over[(over.e_requested == 0.8) & (over.V_over_vn == 0.1)].eps_own_equation.item()
     assert at == pytest.approx(0.86672, abs=2e-5)
     assert "V = 0.1 vn" in (project / "results" / "keywords" / "promise.md").read_text()
+
+
+def test_a_cluster_job_reads_the_runs_banners_and_plans_and_asks_no_build(tmp_path):
+    """The run's own Snakemake asks every build for its version and plans every case, and writes
+    both for its jobs (workflow/rules/setup_cache.smk); a job (--target-jobs, as a SLURM job is
+    started) reads them: its LAMMPS is not started. Without the file, or for other inputs (a case
+    file changed), the job asks again."""
+    require_engine("lmp", "lammps")
+    project = copy_workflow(tmp_path / "project")
+    calls = tmp_path / "calls.txt"
+    counting = tmp_path / "lmp"
+    counting.write_text(f"#!/bin/sh\necho called >> {calls}\nexec {shutil.which('lmp')} \"$@\"\n")
+    counting.chmod(0o755)
+    config = ["--config", f"builds=[{{id: lammps, code: lammps, executable: {counting}}}]", "laws=[viscoelastic]",
+              "extras=[]", "compare_builds=[]"]
+
+    def asked(*args):
+        before = len(calls.read_text().splitlines()) if calls.exists() else 0
+        out = snakemake("-n", *args, *config, cwd=project)
+        assert out.returncode == 0, out.stderr[-2000:]
+        return len(calls.read_text().splitlines()) - before
+
+    assert asked("all") == 1  # the run: its version, once
+    assert len(list((project / ".snakemake" / "hertz-setup").glob("*.json"))) == 1
+    job = ["--target-jobs", "run_engine:case=steel,build=lammps"]
+    assert asked(*job) == 0  # a job of that run: read, not asked
+    case = project / "cases" / "steel.yaml"
+    case.write_text(case.read_text() + "\n# another case file: another key\n")
+    assert asked(*job) == 1  # inputs the run did not plan: the job asks (and plans) itself

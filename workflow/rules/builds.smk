@@ -1,7 +1,8 @@
 # The engine builds of the study (config `builds:`): loaded, and every executable asked for its
 # version (in threads, while workflow/rules/cases.smk plans the cases), before any job starts. A
 # missing executable, one that is another engine, or one that cannot say its version stops the
-# workflow there, naming the build and what to do.
+# workflow there, naming the build and what to do. A cluster job reads the banners the run's own
+# process got (workflow/rules/setup_cache.smk) and asks no executable.
 
 from concurrent.futures import ThreadPoolExecutor
 
@@ -34,7 +35,10 @@ def finish_build_checks(builds, futures):
 # cannot be a build (an unknown code, a bad id) stops the workflow here with its message alone: a
 # traceback of the Snakefile would say nothing about the user's config.
 try:
-    BUILDS, _BUILD_CHECKS = start_build_checks(config["builds"], workflow.basedir)
+    if CACHED_SETUP is not None:  # a job: the run's process asked them (workflow/rules/setup_cache.smk)
+        BUILDS, _BUILD_CHECKS = {b.id: b for b in load_builds(config["builds"], workflow.basedir)}, None
+    else:
+        BUILDS, _BUILD_CHECKS = start_build_checks(config["builds"], workflow.basedir)
 except BuildError as _err:
     sys.exit(f"config 'builds': {_err}")
 BUILD_IDS = list(BUILDS)

@@ -27,18 +27,6 @@ def case_name_problems(cases, rule_names):
     return problems
 
 
-def requested():
-    """(targets, target jobs) of this run, from Snakemake's own reading of the command line;
-    (None, None) when it was not started from one (the API)."""
-    from snakemake.cli import get_argument_parser
-
-    try:
-        args, _ = get_argument_parser().parse_known_args(sys.argv[1:])
-    except (SystemExit, Exception):
-        return None, None
-    return list(args.targets or ()), list(args.target_jobs or ())
-
-
 def _case_of(target, case_names):
     """The case a target belongs to: its own target (`rubber`) or a file under results/<case>/;
     None for a target of the whole study."""
@@ -150,7 +138,10 @@ ALL_CASES = case_files()
 #: {path: (Case or None, error or None)} of every case file read (also by the calibration's).
 LOADED = {}
 _cases, CASE_ERRORS = load_cases(ALL_CASES)
-PLANS, _plan_errors = plan_cases(_cases)
+if CACHED_SETUP is not None:  # a job: the run's process planned them (workflow/rules/setup_cache.smk)
+    PLANS, _plan_errors = CACHED_SETUP["plans"], CACHED_SETUP["plan_errors"]
+else:
+    PLANS, _plan_errors = plan_cases(_cases)
 CASE_ERRORS.update(_plan_errors)
 _problem = unusable(CASE_ERRORS, cases_requested(list(ALL_CASES)), len(ALL_CASES))
 if _problem:
@@ -162,10 +153,15 @@ CASES = {stem: path for stem, path in ALL_CASES.items() if stem not in CASE_ERRO
 
 # Every build's executable answered for its version meanwhile (workflow/rules/builds.smk): a
 # missing one, another engine or one that cannot say its version stops the workflow here.
-try:
-    finish_build_checks(BUILDS, _BUILD_CHECKS)
-except BuildError as err:
-    SETUP_PROBLEMS.append(str(err))
-# A keyword law runs only in the builds whose release has the keyword (their version banners).
-_BANNERS = {b: f.result() for b, f in _BUILD_CHECKS.items() if f.exception() is None}
-PLANS = {stem: without_missing_keywords(listing, _BANNERS) for stem, listing in PLANS.items()}
+if CACHED_SETUP is None:
+    try:
+        finish_build_checks(BUILDS, _BUILD_CHECKS)
+    except BuildError as err:
+        SETUP_PROBLEMS.append(str(err))
+    # A keyword law runs only in the builds whose release has the keyword (their version banners).
+    BANNERS = {b: f.result() for b, f in _BUILD_CHECKS.items() if f.exception() is None}
+    PLANS = {stem: without_missing_keywords(listing, BANNERS) for stem, listing in PLANS.items()}
+    if not IS_JOB and not SETUP_PROBLEMS:  # for this run's jobs: they need not ask or plan again
+        write_setup(SETUP_KEY, {"banners": BANNERS, "plans": PLANS, "plan_errors": _plan_errors})
+else:
+    BANNERS = CACHED_SETUP["banners"]

@@ -1,0 +1,69 @@
+# What every Snakemake process of a run works out before any job: the builds' version banners
+# (workflow/rules/builds.smk) and the cases' plans (workflow/rules/cases.smk). On a cluster each job
+# is a Snakemake process of its own that reads the workflow again: it would ask every build for its
+# version and plan every case again, once per job. The run's own process (the one the user started)
+# works them out and writes them here; its jobs (started with --target-jobs) read them, and ask or
+# plan only when the file is missing or was written for other inputs.
+
+import hashlib
+import json
+
+
+def requested():
+    """(targets, target jobs) of this run, from Snakemake's own reading of the command line;
+    (None, None) when it was not started from one (the API)."""
+    from snakemake.cli import get_argument_parser
+
+    try:
+        args, _ = get_argument_parser().parse_known_args(sys.argv[1:])
+    except (SystemExit, Exception):
+        return None, None
+    return list(args.targets or ()), list(args.target_jobs or ())
+
+
+#: Whether this process is a job of a running workflow (a cluster job: --target-jobs), not the run.
+IS_JOB = bool(requested()[1])
+SETUP_CACHE = Path(".snakemake") / "hertz-setup"
+#: The code whose change changes a plan: the physics and the engines' tables.
+_PLAN_CODE = ("contact_model", "engines", "reference")
+
+
+def setup_key(config, case_files):
+    """sha256 of what the banners and plans depend on: the config, every case file's bytes and
+    the plan code's files (their paths, sizes and modification times)."""
+    h = hashlib.sha256(json.dumps(config, sort_keys=True, default=str).encode())
+    for stem, path in sorted(case_files.items()):
+        h.update(f"{stem}\0{path}\0".encode() + Path(path).read_bytes())
+    for package in _PLAN_CODE:
+        for f in sorted(Path(workflow.basedir, package).glob("*.py")):
+            st = f.stat()
+            h.update(f"{f}\0{st.st_size}\0{st.st_mtime_ns}\0".encode())
+    return h.hexdigest()
+
+
+def read_setup(key):
+    """The banners and plans the run's process wrote for `key`, or None."""
+    path = SETUP_CACHE / f"{key}.json"
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def write_setup(key, content):
+    """Write the run's banners and plans for its jobs (atomically: a job never reads half)."""
+    from records.files import write_atomically
+
+    SETUP_CACHE.mkdir(parents=True, exist_ok=True)
+    write_atomically(SETUP_CACHE / f"{key}.json", json.dumps(content))
+
+
+def _case_paths():
+    """{stem: path} of config `cases` (as workflow/rules/cases.smk finds them; none: {})."""
+    patterns = [config["cases"]] if isinstance(config["cases"], str) else config["cases"]
+    return {Path(f).stem: f for f in sorted({f for p in patterns for f in glob.glob(p)})}
+
+
+SETUP_KEY = setup_key(config, _case_paths())
+#: The run's banners and plans, in a job; None in the run's own process (it works them out).
+CACHED_SETUP = read_setup(SETUP_KEY) if IS_JOB else None
