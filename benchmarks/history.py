@@ -50,7 +50,8 @@ def main():
                  for _ in range(REPEATS)]
         releases = len(list((local / "results" / "history" / "installs").glob("*.json")))
         print(f"history of releases ({releases} releases, default config), {REPEATS} runs each, --forceall (medians)")
-        print(f"  local (-j2)        : wall {statistics.median(walls):6.1f} s (min {min(walls):.1f}, max {max(walls):.1f})")
+        print(f"  local (-j2)        : wall {statistics.median(walls):6.1f} s (min {min(walls):.1f}, "
+              f"max {max(walls):.1f})")
         up = subprocess.run([str(ROOT / "profiles" / "slurm" / "local_cluster.sh"), "up"], capture_output=True,
                             text=True, timeout=300)
         snakemake = ROOT / ".venv-slurm" / "bin" / "snakemake"

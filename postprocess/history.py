@@ -291,7 +291,8 @@ def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, pro
     worst against its tolerance. `problem` (a run that failed) makes it 'run failed'."""
     if problem or limit is None:
         return {**base, "check": check, "status": "run failed", "error": math.nan, "resolution": math.nan,
-                "tolerance": math.nan, "detail": problem or "no limit", "defect": check if check in KNOWN_DEFECTS else ""}
+                "tolerance": math.nan, "detail": problem or "no limit",
+                "defect": check if check in KNOWN_DEFECTS else ""}
     ranks = {"pass": 0, "unresolved": 1, "fail": 2, "run failed": 3}
     judged = {}
     for q in ("T", "A", "eps"):

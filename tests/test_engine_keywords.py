@@ -2,7 +2,8 @@
 unmodified, against their own equation: a ladder of four rungs aligned to the end its force
 allows, extrapolated to dt -> 0 with the x^(1/4) law's powers, meets the closed form of
 x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 (reference.quarter_power_damping) at the b its code computes
-from e (YADE's en + vn: Brilliantov's law at the K its Pade gives, its rungs refined by that K), to 1e-6 with its resolution added, at a lightly and a strongly damping e. A build whose
+from e (YADE's en + vn: Brilliantov's law at the K its Pade gives, its rungs refined by that K),
+to 1e-6 with its resolution added, at a lightly and a strongly damping e. A build whose
 release predates a keyword (contact_model.keywords `since`) is run too: its engine must refuse it,
 which is what the plan's leaving it out rests on."""
 

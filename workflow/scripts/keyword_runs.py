@@ -44,7 +44,8 @@ for name, law_name in keywords.items():
         row = keyword_reference(name, float(e), K)
         rungs[(name, float(e))] = [RunSpec("keywords", build.code, law_name, pair, V, f, matched_restitution=float(e),
                                            build=build.id, reference=row)
-                                   for f in ladder_factors(snakemake.params.ladder, law_name, K, keyword_own_K(name, row))]
+                                   for f in ladder_factors(snakemake.params.ladder, law_name, K,
+                                                           keyword_own_K(name, row))]
 runs = [r for ladder in rungs.values() for r in ladder]
 log.info("%s (%s): %s told %d restitutions, %d runs into %s", build.id, banner, ", ".join(keywords),
          len(k["restitution"]), len(runs), snakemake.output.runs)
