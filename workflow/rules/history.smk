@@ -9,10 +9,17 @@ HISTORY = config["history"]
 
 
 def history_releases():
-    """{release id: {code, release, build (a study build, as data) or install (the command)}}, in
-    config order: the study builds of history.builds, then history.releases' PyPI releases."""
+    """{release id: {code, release, build (as data) and/or install (the command that installs it)}},
+    in config order: history.builds (study builds by id, and entries of their own), then
+    history.releases' PyPI releases."""
     out = {}
-    for build_id in HISTORY["builds"]:
+    for entry in HISTORY["builds"]:
+        if isinstance(entry, dict):  # a build of its own, installed on demand by its `install` command
+            build = load_builds([{k: entry[k] for k in ("id", "code", "executable")}], workflow.basedir)[0]
+            out[build.id] = {"code": build.code, "release": build.id, "install": entry.get("install", ""),
+                             "build": {"id": build.id, "code": build.code, "executable": build.executable}}
+            continue
+        build_id = entry
         if build_id not in BUILDS:  # builds given on the command line: the history runs without it
             if "history" in sys.argv:
                 print(f"config 'history.builds': {build_id} left out: the study has no build {build_id!r} (its "
