@@ -137,3 +137,17 @@ def promise_over_velocity(keyword, restitutions, ratios=VELOCITY_RATIOS) -> pd.D
                              "eps_own_equation": eps, "err_promise": eps - float(e)})
     return pd.DataFrame(rows, columns=["keyword", "e_requested", "V_over_vn", "K", "eps_own_equation",
                                        "err_promise"])
+
+
+def sweep_metrics(sweep) -> tuple[dict, dict]:
+    """({run name: records.collision_metrics.CollisionMetrics} of the runs of `sweep` (an
+    `engines.Sweep`) that landed, {run name: why} of those that failed): what `promise_rows` takes."""
+    from records.collision_metrics import collision_metrics
+    from records.dump_file import read_dump
+
+    metrics = {}
+    for name, path in sweep.dumps.items():
+        meta, c = read_dump(path)
+        metrics[name] = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
+                                          impact_velocity=meta["impact_velocity"])
+    return metrics, {name: str(err) for name, err in sweep.failures.items()}

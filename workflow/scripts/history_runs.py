@@ -19,10 +19,8 @@ from engines.codes import keyword_of, law_unavailable
 from engines.plan import keyword_own_K, ladder_factors
 from postprocess.history import (COLUMNS, REGRESSION_CHECKS, banner_date, limit_check, not_run_rows, promise_check,
                                  promise_check_row)
-from postprocess.keyword_promise import promise_rows
+from postprocess.keyword_promise import promise_rows, sweep_metrics
 from postprocess.regressions import ladder_limit, regression_table
-from records.collision_metrics import collision_metrics
-from records.dump_file import read_dump
 from records.run_manifest import write_manifest
 
 log = log_to(snakemake.log[0])
@@ -94,12 +92,7 @@ else:
         failed = [sweep.failures.get(r.name, "no dump") for r in rungs if r.name not in sweep.dumps]
         rows.append(limit_check(base, check, None if failed else ladder_limit(rungs, sweep, criterion), tolerance,
                                 problem=str(failed[0]).splitlines()[0] if failed else ""))
-    metrics = {}
-    for name, path in sweep.dumps.items():
-        meta, c = read_dump(path)
-        metrics[name] = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
-                                          impact_velocity=meta["impact_velocity"])
-    failures = {name: str(err) for name, err in sweep.failures.items()}
+    metrics, failures = sweep_metrics(sweep)
     for name, by_e in keywords.items():
         rows.append(promise_check_row(base, name, promise_rows(build.id, code, KEYWORDS[name], by_e, metrics,
                                                                failures), float(h["promise_tolerance"])))

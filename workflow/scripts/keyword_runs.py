@@ -14,9 +14,7 @@ from engines import RunSpec, run_sweep
 from engines.builds import Build, check_build
 from engines.codes import keyword_of, law_unavailable
 from engines.plan import keyword_own_K, ladder_factors
-from postprocess.keyword_promise import COLUMNS, promise_rows
-from records.collision_metrics import collision_metrics
-from records.dump_file import read_dump
+from postprocess.keyword_promise import COLUMNS, promise_rows, sweep_metrics
 from records.run_manifest import write_manifest
 
 log = log_to(snakemake.log[0])
@@ -50,12 +48,7 @@ runs = [r for ladder in rungs.values() for r in ladder]
 log.info("%s (%s): %s told %d restitutions, %d runs into %s", build.id, banner, ", ".join(keywords),
          len(k["restitution"]), len(runs), snakemake.output.runs)
 sweep = run_sweep(build, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s)
-metrics = {}
-for name, path in sweep.dumps.items():
-    meta, c = read_dump(path)
-    metrics[name] = collision_metrics(c["time"], c["overlap"], c["normal_velocity"], c["normal_force"],
-                                      impact_velocity=meta["impact_velocity"])
-failures = {name: str(err) for name, err in sweep.failures.items()}
+metrics, failures = sweep_metrics(sweep)
 rows = []
 for name in keywords:
     keyword = KEYWORDS[name]
