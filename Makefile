@@ -111,8 +111,13 @@ $(KRATOS_VENV)/.installed:
 
 # The Python side from the lock file (exact versions and sha256 hashes, pip-compile from
 # pyproject.toml: make lock), then the project itself, editable, without dependencies of its own.
+# pip first: Python 3.11's own pip (23.2) resolves the lock's `coverage` (pytest-cov asks for
+# coverage[toml], an extra pip-compile --strip-extras leaves out) to the newest release on the
+# index, not the pinned one, and then refuses it as unpinned; pip 25.3 takes the pinned one.
+PIP_VERSION := 25.3
 $(VENV)/.installed: pyproject.toml requirements/study.txt
 	python3 -m venv $(VENV)
+	$(PY) -m pip install --quiet pip==$(PIP_VERSION)
 	$(PY) -m pip install --quiet --require-hashes -r requirements/study.txt
 	$(PY) -m pip install --quiet --no-deps -e .
 	@# Compile the numba kernels once here (cache=True: the solver's single and batch kernels, the
@@ -126,6 +131,7 @@ slurm-venv: $(SLURM_VENV)/.installed
 
 $(SLURM_VENV)/.installed: pyproject.toml requirements/slurm.txt
 	python3 -m venv $(SLURM_VENV)
+	$(SLURM_VENV)/bin/python -m pip install --quiet pip==$(PIP_VERSION)
 	$(SLURM_VENV)/bin/python -m pip install --quiet --require-hashes -r requirements/slurm.txt
 	$(SLURM_VENV)/bin/python -m pip install --quiet --no-deps -e .
 	$(SLURM_VENV)/bin/python -m reference.warm_up
