@@ -7,7 +7,7 @@ Each way runs with --forceall in a copy of the workflow (tests/workflow_copy.py:
 `make build` installed are linked, so no way pays for an installation), REPEATS times, and prints
 the median, min and max wall time, the SLURM jobs it submitted (one per release: its install and
 its runs are one group job) and the ratio SLURM / local. Without SLURM (not installed, or the
-cluster does not start) it says so and prints the local figures alone."""
+cluster does not start) it says so and prints the local figures alone. A cluster it started, it stops."""
 
 import os
 import shutil
@@ -44,6 +44,7 @@ def _rows(project: Path) -> str:
 
 def main():
     scratch = Path(tempfile.mkdtemp(prefix="hertz-history-bench-"))
+    stop = []  # the local cluster, when this benchmark started it (a later CI run refuses a running one)
     try:
         local = _copy(scratch / "local")
         walls = [_run([sys.executable, "-m", "snakemake", "-j2", "history", "--forceall"], local)[0]
@@ -52,8 +53,10 @@ def main():
         print(f"history of releases ({releases} releases, default config), {REPEATS} runs each, --forceall (medians)")
         print(f"  local (-j2)        : wall {statistics.median(walls):6.1f} s (min {min(walls):.1f}, "
               f"max {max(walls):.1f})")
-        up = subprocess.run([str(ROOT / "profiles" / "slurm" / "local_cluster.sh"), "up"], capture_output=True,
-                            text=True, timeout=300)
+        script = str(ROOT / "profiles" / "slurm" / "local_cluster.sh")
+        up = subprocess.run([script, "up"], capture_output=True, text=True, timeout=300)
+        if up.returncode == 0 and "already running" not in up.stdout:  # started here: stopped here
+            stop.append(script)
         snakemake = ROOT / ".venv-slurm" / "bin" / "snakemake"
         if up.returncode != 0 or not snakemake.exists():
             print(f"  through SLURM      : not measured (make slurm-venv slurm-up: {(up.stdout + up.stderr)[-200:]})")
@@ -72,6 +75,8 @@ def main():
               f"history.csv {'identical' if same else 'DIFFERENT'} to the local run's")
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
+        for script in stop:
+            subprocess.run([script, "down"], capture_output=True, text=True, timeout=300)
 
 
 if __name__ == "__main__":
