@@ -86,7 +86,9 @@ def ladder_factors(ladder: dict, law: str, K: float, own_K: float | None = None)
     one whose force is Brilliantov's (YADE's en + vn), refined by its own K `own_K`
     (`keyword_own_K`)."""
     if LAW_REGISTRY[law].is_keyword:  # an engine's keyword: its damping does not grow with the pair's K
-        return [float(rung_factor(f, own_K or 0.0)) for f in ladder["dissipative"]]
+        if own_K is None:
+            return [float(f) for f in ladder["dissipative"]]
+        return [float(rung_factor(f, own_K)) for f in ladder["dissipative"]]
     if law == "elastic" or K == 0:
         return [float(f) for f in ladder["elastic"]]
     return [float(rung_factor(f, K)) for f in ladder["dissipative"]]

@@ -46,17 +46,12 @@ def regression_table(cases, sweep, build: str) -> pd.DataFrame:
                 row.update(engine_version="", problem=str(problem), err_T=math.nan, err_A=math.nan, err_eps=math.nan)
                 rows.append(row)
                 continue
-            limit = _x0_limit(rungs, sweep)
+            limit = ladder_limit(rungs, sweep, "x0")
             row.update(engine_version=limit["engine_version"], problem="",
                        **{f"{k}_{q}": limit[f"{k}_{q}"] for q in ("T", "A", "eps")
                           for k in ("err", "resolution", "rungs")})
             rows.append(row)
     return pd.DataFrame(rows)
-
-
-def _x0_limit(rungs, sweep) -> dict:
-    """The x0 limit row (`postprocess.extrapolation`) of one ladder's dumps in `sweep`."""
-    return ladder_limit(rungs, sweep, "x0")
 
 
 def ladder_limit(rungs, sweep, criterion: str) -> dict:
