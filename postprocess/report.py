@@ -342,12 +342,11 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
               "Rows: engine builds; columns: contact law, geometry, end-of-collision criterion. Laws: viscoelastic "
               "with the attractive tail kept (criteria x0 and F0 from one trajectory), viscoelastic clipped at zero "
               "force (F0 only), elastic (eta = 0: Hertz alone), default (the engine's own restitution keyword, "
-              "against its own equation: see its section below), and other keywords as laws of their own (betan, "
-              "coeff_restitution, velocity, mass_velocity: contact_model/laws.py). A cell fails when any of its "
-              "checks (T, A, eps) exceeds its tolerance once its resolution is added, or when one of its runs failed "
-              "or left no "
-              "result. Hover a cell of report.html for the worst quantity, case, K and run, and the reason of a "
-              "failure.", "", ladder_settings(ladder), "", MATRIX, ""]
+              "against its own equation: see its section below), and other keywords as laws of their own ("
+              f"{', '.join(law for law in KEYWORD_LAWS if law != 'default')}: contact_model/laws.py). A cell fails "
+              "when any of its checks (T, A, eps) exceeds its tolerance once its resolution is added, or when one of "
+              "its runs failed or left no result. Hover a cell of report.html for the worst quantity, case, K and "
+              "run, and the reason of a failure.", "", ladder_settings(ladder), "", MATRIX, ""]
     if has_rows:
         lines += ["## Against K", "", ("Every engine build a marker and colour of its own (hollow; a dot at the "
                                        "centre: sphere-plane), smaller along the build list, so that builds that "
