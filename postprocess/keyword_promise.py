@@ -112,26 +112,37 @@ def plot_promise(table: pd.DataFrame, path) -> None:
 VELOCITY_RATIOS = (0.01, 0.1, 0.3, 1.0, 3.0, 10.0)
 
 
-def promise_over_velocity(keyword, restitutions, ratios=VELOCITY_RATIOS) -> pd.DataFrame:
-    """What a keyword told e at the velocity vn restitutes at other impact velocities V, by its own
-    equation (its engines are gated against that equation at V = vn): for a keyword whose force is
-    Brilliantov's (form 'half': YADE's en + vn), eps_F0 of the viscoelastic law at
-    K = (5/4)^{3/5} v*(e)^2 (V/vn)^{1/5} (`contact_model.keywords.yade_en_vn_K`); the other keywords'
-    restitution does not depend on V (form 'quarter') or is told per velocity (form 'velocity').
+def promise_over_velocity(keywords, restitutions, ratios=VELOCITY_RATIOS) -> pd.DataFrame:
+    """What each keyword told e at the velocity vn restitutes at other impact velocities V, by its
+    own equation (its engines are gated against that equation at V = vn). A keyword whose force is
+    Brilliantov's (form 'half': YADE's en + vn) has K = `Keyword.b` at vn, and K grows as V^{1/5}
+    at a fixed coefficient: eps of the viscoelastic law at K (V/vn)^{1/5}, under the keyword's
+    criterion. The other keywords' restitution does not depend on V (form 'quarter') or is told
+    per velocity (form 'velocity'): no rows.
+
+    Parameters
+    ----------
+    keywords : iterable of contact_model.keywords.Keyword
+    restitutions : iterable of float
+        The e each is told at vn.
+    ratios : iterable of float
+        V / vn.
 
     Returns
     -------
     DataFrame with columns keyword, e_requested, V_over_vn, K, eps_own_equation, err_promise
-    (eps - e); empty for a keyword of another form.
+    (eps - e).
     """
-    from contact_model.keywords import yade_en_vn_K
     from reference import solve_collision
 
     rows = []
-    if keyword.form == "half":
+    for keyword in keywords:
+        if keyword.form != "half":
+            continue
         for e in restitutions:
+            K_vn = keyword.b(keyword.told_for(float(e)))
             for r in ratios:
-                K = yade_en_vn_K(float(e), float(r))
+                K = K_vn * float(r) ** 0.2
                 eps = solve_collision(K)[f"eps_{keyword.criterion}"]
                 rows.append({"keyword": keyword.name, "e_requested": float(e), "V_over_vn": float(r), "K": K,
                              "eps_own_equation": eps, "err_promise": eps - float(e)})

@@ -7,7 +7,8 @@ import pandas as pd
 
 from common import log_to
 from contact_model.measurement_file import load_measurements
-from postprocess.keyword_promise import plot_promise, promise_summary
+from contact_model.keywords import KEYWORDS
+from postprocess.keyword_promise import plot_promise, promise_over_velocity, promise_summary
 from postprocess.restitution_of_velocity import FOLLOWS_R2, fit_forms, plot_forms
 from records.files import write_atomically
 
@@ -24,12 +25,8 @@ lines = ["# The engines' restitution keywords: what they deliver against what th
          summary.to_markdown(index=False, floatfmt=".3g") if len(summary) else "(no keyword delivered a value)", "",
          f"![promise]({Path(snakemake.output.png).name})", ""]
 # A keyword told e at a velocity (YADE's en + vn): what it restitutes away from that velocity.
-from contact_model.keywords import KEYWORDS  # noqa: E402
-from postprocess.keyword_promise import promise_over_velocity  # noqa: E402
-
-told = sorted({float(e) for e in table.e_requested})
-over_v = pd.concat([promise_over_velocity(KEYWORDS[k], told) for k in dict.fromkeys(table.keyword)] or
-                   [promise_over_velocity(KEYWORDS["yade:en-vn"], [])], ignore_index=True)
+over_v = promise_over_velocity([KEYWORDS[k] for k in dict.fromkeys(table.keyword)],
+                               sorted({float(e) for e in table.e_requested}))
 over_v.to_csv(snakemake.output.over_velocity, index=False, float_format="%.12g")
 for name, g in over_v.groupby("keyword", sort=False):
     grid = g.pivot(index="e_requested", columns="V_over_vn", values="eps_own_equation")
