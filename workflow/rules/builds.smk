@@ -1,8 +1,8 @@
 # The engine builds of the study (config `builds:`): loaded, and every executable asked for its
 # version (in threads, while workflow/rules/cases.smk plans the cases), before any job starts. A
 # missing executable, one that is another engine, or one that cannot say its version stops the
-# workflow there, naming the build and what to do. A cluster job reads the banners the run's own
-# process got (workflow/rules/setup_cache.smk) and asks no executable.
+# workflow there, naming the build and what to do. A cluster job reads the plans the run's own
+# process made from them (workflow/rules/setup_cache.smk) and asks no executable.
 
 from concurrent.futures import ThreadPoolExecutor
 

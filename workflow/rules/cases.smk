@@ -4,12 +4,11 @@ CASE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
 
 def case_files():
-    """{case name: file} for the config's `cases` (a glob or a list of globs)."""
-    patterns = [config["cases"]] if isinstance(config["cases"], str) else config["cases"]
-    files = sorted({f for p in patterns for f in glob.glob(p)})
+    """{case name: file} for the config's `cases` (`config_case_files`), at least one."""
+    files = config_case_files()
     if not files:
         raise WorkflowError(f"config 'cases': no case file matches {config['cases']!r}")
-    return {Path(f).stem: f for f in files}
+    return files
 
 
 def case_name_problems(cases, rule_names):
@@ -159,9 +158,7 @@ if CACHED_SETUP is None:
     except BuildError as err:
         SETUP_PROBLEMS.append(str(err))
     # A keyword law runs only in the builds whose release has the keyword (their version banners).
-    BANNERS = {b: f.result() for b, f in _BUILD_CHECKS.items() if f.exception() is None}
-    PLANS = {stem: without_missing_keywords(listing, BANNERS) for stem, listing in PLANS.items()}
+    _BANNERS = {b: f.result() for b, f in _BUILD_CHECKS.items() if f.exception() is None}
+    PLANS = {stem: without_missing_keywords(listing, _BANNERS) for stem, listing in PLANS.items()}
     if not IS_JOB and not SETUP_PROBLEMS:  # for this run's jobs: they need not ask or plan again
-        write_setup(SETUP_KEY, {"banners": BANNERS, "plans": PLANS, "plan_errors": _plan_errors})
-else:
-    BANNERS = CACHED_SETUP["banners"]
+        write_setup(SETUP_KEY, {"plans": PLANS, "plan_errors": _plan_errors})

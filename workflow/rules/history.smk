@@ -21,7 +21,7 @@ def history_releases():
             continue
         build_id = entry
         if build_id not in BUILDS:  # builds given on the command line: the history runs without it
-            if "history" in sys.argv:
+            if "history" in (requested()[0] or ()):
                 print(f"config 'history.builds': {build_id} left out: the study has no build {build_id!r} (its "
                       f"builds: {', '.join(BUILDS)})", file=sys.stderr)
             continue

@@ -1,9 +1,10 @@
-# What every Snakemake process of a run works out before any job: the builds' version banners
-# (workflow/rules/builds.smk) and the cases' plans (workflow/rules/cases.smk). On a cluster each job
-# is a Snakemake process of its own that reads the workflow again: it would ask every build for its
-# version and plan every case again, once per job. The run's own process (the one the user started)
-# works them out and writes them here; its jobs (started with --target-jobs) read them, and ask or
-# plan only when the file is missing or was written for other inputs.
+# What every Snakemake process of a run works out before any job: the cases' plans
+# (workflow/rules/cases.smk), cut to the keywords each build's version banner says it has
+# (workflow/rules/builds.smk). On a cluster each job is a Snakemake process of its own that reads the
+# workflow again: it would ask every build for its version and plan every case again, once per job.
+# The run's own process (the one the user started) writes the plans here; its jobs (started with
+# --target-jobs) read them and ask no build, and ask and plan only when the file is missing or was
+# written for other inputs.
 
 import hashlib
 import json
@@ -29,7 +30,7 @@ _PLAN_CODE = ("contact_model", "engines", "reference")
 
 
 def setup_key(config, case_files):
-    """sha256 of what the banners and plans depend on: the config, every case file's bytes and
+    """sha256 of what the plans depend on: the config (the builds among it), every case file's bytes and
     the plan code's files (their paths, sizes and modification times)."""
     h = hashlib.sha256(json.dumps(config, sort_keys=True, default=str).encode())
     for stem, path in sorted(case_files.items()):
@@ -42,7 +43,7 @@ def setup_key(config, case_files):
 
 
 def read_setup(key):
-    """The banners and plans the run's process wrote for `key`, or None."""
+    """The plans the run's process wrote for `key`, or None."""
     path = SETUP_CACHE / f"{key}.json"
     try:
         return json.loads(path.read_text())
@@ -51,19 +52,19 @@ def read_setup(key):
 
 
 def write_setup(key, content):
-    """Write the run's banners and plans for its jobs (atomically: a job never reads half)."""
+    """Write the run's plans for its jobs (atomically: a job never reads half)."""
     from records.files import write_atomically
 
     SETUP_CACHE.mkdir(parents=True, exist_ok=True)
     write_atomically(SETUP_CACHE / f"{key}.json", json.dumps(content))
 
 
-def _case_paths():
-    """{stem: path} of config `cases` (as workflow/rules/cases.smk finds them; none: {})."""
+def config_case_files():
+    """{case name: file} for the config's `cases` (a glob or a list of globs); {} when none matches."""
     patterns = [config["cases"]] if isinstance(config["cases"], str) else config["cases"]
     return {Path(f).stem: f for f in sorted({f for p in patterns for f in glob.glob(p)})}
 
 
-SETUP_KEY = setup_key(config, _case_paths())
-#: The run's banners and plans, in a job; None in the run's own process (it works them out).
+SETUP_KEY = setup_key(config, config_case_files())
+#: The run's plans, in a job; None in the run's own process (it works them out).
 CACHED_SETUP = read_setup(SETUP_KEY) if IS_JOB else None
