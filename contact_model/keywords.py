@@ -275,7 +275,8 @@ def promised_restitution(keyword: str, e: float) -> float:
     return restitution_quarter_power(k.b(k.told_for(e)), k.criterion)
 
 
-_MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
+#: The month names of the engines' version banners.
+MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
 
 
 def release_date(banner: str) -> tuple[int, int, int] | None:
@@ -283,9 +284,9 @@ def release_date(banner: str) -> tuple[int, int, int] | None:
     Update 2)'; 'Yade version: 2025.2.0' is (2025, 2, 1)), None when it names no date."""
     import re
 
-    m = re.search(r"\b(\d{1,2}) (" + "|".join(_MONTHS) + r")[a-z]* (\d{4})\b", banner)
+    m = re.search(r"\b(\d{1,2}) (" + "|".join(MONTHS) + r")[a-z]* (\d{4})\b", banner)
     if m:
-        return (int(m.group(3)), _MONTHS.index(m.group(2)) + 1, int(m.group(1)))
+        return (int(m.group(3)), MONTHS.index(m.group(2)) + 1, int(m.group(1)))
     yade = re.search(r"Yade version: (\d{4})\.(\d{1,2})", banner)  # YADE numbers releases year.month
     return (int(yade.group(1)), int(yade.group(2)), 1) if yade else None
 
@@ -298,7 +299,7 @@ def missing_in(keyword: str, banner: str) -> str | None:
     if k.since is None or date is None or date >= k.since:
         return None
     y, m, d = k.since
-    return f"{k.written.split(' + ')[-1]} came in the release of {d} {_MONTHS[m - 1]} {y}; this build is {banner}"
+    return f"{k.written.split(' + ')[-1]} came in the release of {d} {MONTHS[m - 1]} {y}; this build is {banner}"
 
 
 def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:

@@ -27,7 +27,7 @@ import re
 
 import pandas as pd
 
-from contact_model.keywords import KEYWORDS, release_date
+from contact_model.keywords import KEYWORDS, MONTHS, release_date
 
 #: The columns of results/history/history.csv: the first six are the issue's; `build` is the id the
 #: release ran as, `banner` its version banner, `date` its release date (from the banner; '' when
@@ -68,9 +68,6 @@ PROMISE_CHECKS = {"lammps:tsuji": "tsuji promise", "yade:en": "Thornton fit prom
 #: Regression cases of `engines.lammps.regression_cases` -> their check.
 REGRESSION_CHECKS = {"wall-modulus": "wall modulus", "mixing": "mixed pairs"}
 
-_MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
-
-
 def promise_check(keyword: str) -> str:
     """The history's check of a restitution keyword's promise."""
     return PROMISE_CHECKS.get(keyword, f"{keyword.split(':', 1)[1]} promise")
@@ -110,10 +107,10 @@ def version_of(banner: str) -> str:
 def release_name(code: str, banner: str, release: str) -> str:
     """How a sentence names a release: LAMMPS by its banner's date ('2 Aug 2023'), YADE and Kratos
     by the version their banner prints ('2023.02a', '9.5.2'), else the release as configured."""
-    day = re.search(r"\b(\d{1,2} (?:" + "|".join(_MONTHS) + r")[a-z]* \d{4})\b", banner)
-    if day:
-        return day.group(1)
-    return version_of(banner) or release
+    version, date = version_of(banner), release_date(banner)
+    if date is not None and not version:  # a day's release (LAMMPS)
+        return f"{date[2]} {MONTHS[date[1] - 1]} {date[0]}"
+    return version or release
 
 
 def _version_key(release: str) -> tuple:
@@ -246,9 +243,8 @@ def plot_history(table: pd.DataFrame, path) -> None:
     for ax, code in zip(axes[0], codes):
         rows = table[table.code == code]
         releases = releases_of(table, code)
-        ticks = [r if not d else f"{r}\n{d}" for r, d in
-                 ((r, (rows[rows.release == r].date.fillna("").iloc[0] if len(rows[rows.release == r]) else ""))
-                  for r in releases)]
+        dates = dict(zip(rows.release, rows.date.fillna("")))
+        ticks = [f"{r}\n{dates[r]}" if dates[r] else r for r in releases]
         shown = [c for c in dict.fromkeys(rows.check) if c != "version banner"
                  and (c in KNOWN_DEFECTS or rows[rows.check == c].status.isin(["fail", "unresolved"]).any())]
         for check in shown:
@@ -271,10 +267,12 @@ def plot_history(table: pd.DataFrame, path) -> None:
     plt.close(fig)
 
 
-def worst(values: dict[str, float]) -> tuple[str, float]:
-    """(name, value) of the entry with the largest |value| (NaN counts as largest)."""
-    name = max(values, key=lambda k: math.inf if math.isnan(values[k]) else abs(values[k]))
-    return name, values[name]
+def history_row(base: dict, check: str, status: str, detail: str = "", error: float = math.nan,
+                resolution: float = math.nan, tolerance: float = math.nan) -> dict:
+    """One row of `COLUMNS`: `base` (code, release, build, banner, date) and one check's result;
+    `defect` names the known defect the check tracks."""
+    return {**base, "check": check, "status": status, "error": error, "resolution": resolution,
+            "tolerance": tolerance, "detail": detail, "defect": check if check in KNOWN_DEFECTS else ""}
 
 
 def _judged(error: float, resolution: float, tolerance: float) -> str:
@@ -290,9 +288,7 @@ def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, pro
     with `tolerance` per quantity); its error and resolution are those of the quantity that is
     worst against its tolerance. `problem` (a run that failed) makes it 'run failed'."""
     if problem or limit is None:
-        return {**base, "check": check, "status": "run failed", "error": math.nan, "resolution": math.nan,
-                "tolerance": math.nan, "detail": problem or "no limit",
-                "defect": check if check in KNOWN_DEFECTS else ""}
+        return history_row(base, check, "run failed", problem or "no limit")
     ranks = {"pass": 0, "unresolved": 1, "fail": 2, "run failed": 3}
     judged = {}
     for q in ("T", "A", "eps"):
@@ -303,9 +299,7 @@ def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, pro
                                    / float(tolerance[k])))
     status, err, res = judged[q]
     detail = "; ".join(f"{k} {e:+.3e} (resolution {r:.1e}): {s}" for k, (s, e, r) in judged.items())
-    return {**base, "check": check, "status": status, "error": err, "resolution": res,
-            "tolerance": float(tolerance[q]), "detail": f"worst {q}. " + detail,
-            "defect": check if check in KNOWN_DEFECTS else ""}
+    return history_row(base, check, status, f"worst {q}. " + detail, err, res, float(tolerance[q]))
 
 
 def promise_check_row(base: dict, keyword: str, rows: list[dict], tolerance: float) -> dict:
@@ -315,19 +309,16 @@ def promise_check_row(base: dict, keyword: str, rows: list[dict], tolerance: flo
     check = promise_check(keyword)
     failed = [r for r in rows if r.get("problem")]
     if failed or not rows:
-        return {**base, "check": check, "status": "run failed", "error": math.nan, "resolution": math.nan,
-                "tolerance": tolerance, "detail": failed[0]["problem"] if failed else "no run",
-                "defect": check if check in KNOWN_DEFECTS else ""}
+        return history_row(base, check, "run failed", failed[0]["problem"] if failed else "no run",
+                           tolerance=tolerance)
     w = max(rows, key=lambda r: abs(r["err_promise"]))
     res = float(w["resolution"]) * float(w["eps_delivered"])  # the limit's resolution, relative -> absolute
     told = ", ".join(f"told {r['e_requested']:g}: {r['eps_delivered']:.6f}" for r in rows)
-    return {**base, "check": check, "status": _judged(float(w["err_promise"]), res, tolerance),
-            "error": float(w["err_promise"]), "resolution": res, "tolerance": tolerance,
-            "detail": f"{keyword} delivers ({w['criterion']}, dt -> 0) {told}",
-            "defect": check if check in KNOWN_DEFECTS else ""}
+    return history_row(base, check, _judged(float(w["err_promise"]), res, tolerance),
+                       f"{keyword} delivers ({w['criterion']}, dt -> 0) {told}", float(w["err_promise"]), res,
+                       tolerance)
 
 
 def not_run_rows(base: dict, checks: list[str], status: str, detail: str) -> list[dict]:
     """One row per check of a release whose checks could not run ('not installed', 'run failed')."""
-    return [{**base, "check": c, "status": status, "error": math.nan, "resolution": math.nan,
-             "tolerance": math.nan, "detail": detail, "defect": c if c in KNOWN_DEFECTS else ""} for c in checks]
+    return [history_row(base, c, status, detail) for c in checks]

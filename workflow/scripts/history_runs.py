@@ -17,8 +17,8 @@ from engines import RunSpec, run_sweep
 from engines.builds import Build
 from engines.codes import keyword_of, law_unavailable
 from engines.plan import keyword_own_K, ladder_factors
-from postprocess.history import (COLUMNS, REGRESSION_CHECKS, banner_date, limit_check, not_run_rows, promise_check,
-                                 promise_check_row)
+from postprocess.history import (COLUMNS, REGRESSION_CHECKS, banner_date, history_row, limit_check, not_run_rows,
+                                 promise_check, promise_check_row)
 from postprocess.keyword_promise import promise_rows, sweep_metrics
 from postprocess.regressions import ladder_limit, regression_table
 from records.run_manifest import write_manifest
@@ -31,9 +31,8 @@ install = json.loads(open(snakemake.input.install).read())
 code = spec["code"]
 base = {"code": code, "release": spec["release"], "build": (install["build"] or {}).get("id", ""),
         "banner": install["banner"], "date": banner_date(install["banner"])}
-rows = [{**base, "check": "version banner", "status": "fail" if install["problem"] else "pass", "error": float("nan"),
-         "resolution": float("nan"), "tolerance": float("nan"),
-         "detail": install["problem"] or f"{install['banner']} (release {spec['release']})", "defect": ""}]
+rows = [history_row(base, "version banner", "fail" if install["problem"] else "pass",
+                    install["problem"] or f"{install['banner']} (release {spec['release']})")]
 
 # The checks this release is asked for, each with its runs.
 ladders = {}  # check -> (criterion, [RunSpec])
@@ -89,9 +88,9 @@ else:
     sweep = run_sweep(build, runs, f"{snakemake.output.runs}/cases", timeout_floor_s=snakemake.params.timeout_floor_s)
     seconds = sweep.engine_seconds
     for check, (criterion, rungs) in ladders.items():
-        failed = [sweep.failures.get(r.name, "no dump") for r in rungs if r.name not in sweep.dumps]
-        rows.append(limit_check(base, check, None if failed else ladder_limit(rungs, sweep, criterion), tolerance,
-                                problem=str(failed[0]).splitlines()[0] if failed else ""))
+        lost = [sweep.failures.get(r.name, "no dump") for r in rungs if r.name not in sweep.dumps]
+        rows.append(limit_check(base, check, None if lost else ladder_limit(rungs, sweep, criterion), tolerance,
+                                problem=str(lost[0]).splitlines()[0] if lost else ""))
     metrics, failures = sweep_metrics(sweep)
     for name, by_e in keywords.items():
         rows.append(promise_check_row(base, name, promise_rows(build.id, code, KEYWORDS[name], by_e, metrics,
@@ -108,11 +107,10 @@ else:
         dumps += list(regressions.dumps.values())
         table = regression_table(cases, regressions, build.id)
         for case in cases:
-            user = table[(table.case == case.name) & (table.role == "user")].iloc[0].to_dict()
-            control = table[(table.case == case.name) & (table.role == "control")].iloc[0].to_dict()
-            problem = user["problem"] if isinstance(user["problem"], str) else ""
+            user, control = (table[(table.case == case.name) & (table.role == role)].iloc[0].to_dict()
+                             for role in ("user", "control"))
+            problem, control_problem = (r["problem"] if isinstance(r["problem"], str) else "" for r in (user, control))
             row = limit_check(base, REGRESSION_CHECKS[case.name], None if problem else user, tolerance, problem)
-            control_problem = control["problem"] if isinstance(control["problem"], str) else ""
             control_row = limit_check(base, "control", None if control_problem else control, tolerance,
                                       control_problem)
             if control_row["status"] != "pass":  # the case proves nothing if its control is off
@@ -126,9 +124,7 @@ else:
                 row.update(status="fail", detail=f"the run as a user writes it did not complete (engine log: {where}; "
                                                  f"{snakemake.log[0]}); its control did")
             rows.append(row)
-for check, why in unavailable.items():
-    rows.append({**base, "check": check, "status": "not available", "error": float("nan"),
-                 "resolution": float("nan"), "tolerance": float("nan"), "detail": why, "defect": ""})
+rows += [history_row(base, check, "not available", why) for check, why in unavailable.items()]
 pd.DataFrame(rows, columns=COLUMNS).to_csv(snakemake.output.rows, index=False, float_format="%.12g")
 write_manifest(snakemake.output.manifest, dumps, failed, case="history", build=base["build"], engine=code,
                engine_seconds=seconds)
