@@ -178,7 +178,7 @@ YADE2025 := .yade-2025
 YADE2025_ROOT := $(CURDIR)/$(YADE2025)/root
 define YADE2025_WRAPPER
 #!/bin/bash
-# YADE 2025.2.0 of Debian 13 (make yade-2025): the root's yade on the host's files.
+# Debian 13's programs on the host's files: the root's yade (make yade-2025), or lmp (make lammps-debian13).
 root="$$(dirname "$$(readlink -f "$$0")")/root"
 args=(--bind "$$root" / --proc /proc --dev /dev --ro-bind /sys /sys)
 # Every host directory at its own path but the host's OS, so that a project cloned anywhere
@@ -233,14 +233,14 @@ $(YADE2025)/yade: Makefile
 # Debian 13's LAMMPS (20250204) in the same Debian 13 root, for the history of releases (config
 # history.builds): apt inside the root (through bubblewrap, no mount left behind) and .yade-2025/lmp,
 # a link to the wrapper, which runs the root's program it is named after. Idempotent.
+IN_YADE2025_ROOT := $(SUDO) bwrap --bind $(YADE2025_ROOT) / --proc /proc --dev /dev --die-with-parent
 lammps-debian13: $(YADE2025)/yade
 	@set -e; \
 	if [ ! -x $(YADE2025_ROOT)/usr/bin/lmp ]; then \
 	  echo "lammps-debian13: apt-get install -y --no-install-recommends lammps (in $(YADE2025_ROOT))"; t=$$(date +%s); \
-	  $(SUDO) bwrap --bind $(YADE2025_ROOT) / --proc /proc --dev /dev --die-with-parent apt-get update -q; \
-	  $(SUDO) bwrap --bind $(YADE2025_ROOT) / --proc /proc --dev /dev --die-with-parent \
-	    env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lammps; \
-	  $(SUDO) bwrap --bind $(YADE2025_ROOT) / --proc /proc --dev /dev --die-with-parent apt-get clean; \
+	  $(IN_YADE2025_ROOT) apt-get update -q; \
+	  $(IN_YADE2025_ROOT) env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lammps; \
+	  $(IN_YADE2025_ROOT) apt-get clean; \
 	  echo "lammps-debian13: apt-get install took $$(( $$(date +%s) - t )) s"; \
 	fi; \
 	ln -sfn yade $(YADE2025)/lmp; \
