@@ -101,7 +101,7 @@ def releases():
     assert make_build("kratos==9.5") == "KratosMultiphysics 9.5.2"
 
 
-def history_of(project: Path, *command) -> pd.DataFrame:
+def history_of(project: Path) -> pd.DataFrame:
     table = pd.read_csv(project / "results" / "history" / "history.csv", keep_default_na=False, na_values=[""])
     assert list(table.columns) == COLUMNS
     return table
