@@ -448,8 +448,8 @@ def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_
 
 
 YADE_SCALING_WRAPPER = '''#!{python}
-"""YADE 2025 with the coefficient c of every run of its job file scaled by (1 + {scale!r}): the native
-law's beta is computed from it (cases/decks/yade/collisions.py)."""
+"""YADE 2025 with the number {key!r} of every run of its job file that has one scaled by (1 + {scale!r}):
+c (the native law's beta is computed from it), en (what YADE's en + vn is told; cases/decks/yade/collisions.py)."""
 import json, os, sys
 args = sys.argv[1:]
 for a in args:
@@ -457,7 +457,8 @@ for a in args:
         path = a[4:]
         job = json.load(open(path))
         for run in job["runs"]:
-            run["c"] = run["c"] * (1 + {scale!r})
+            if {key!r} in run:
+                run[{key!r}] = run[{key!r}] * (1 + {scale!r})
         json.dump(job, open(path, "w"))
 os.execv({real!r}, [{real!r}, *args])
 '''
@@ -473,7 +474,7 @@ def test_yade_2025s_own_law_passes_and_its_coefficient_1e_5_off_fails(tmp_path):
     # ten times the viscosity: K = 1 at the velocity of K = 0.1 (K ~ eta V^(-1/5))
     project = copy_workflow(tmp_path / "study", CASE.replace("6.7e5 P", "6.7e6 P").replace("K: [0.1]", "K: [1.0]"))
     wrapper = tmp_path / "yade-scaled"
-    wrapper.write_text(YADE_SCALING_WRAPPER.format(python=sys.executable, scale=1e-5, real=str(real)))
+    wrapper.write_text(YADE_SCALING_WRAPPER.format(python=sys.executable, key="c", scale=1e-5, real=str(real)))
     wrapper.chmod(0o755)
     settings = ["laws=[viscoelastic_clipped]", "compare_builds=[]"]
     ok = study(project, "builds=[{id: yade-2025, code: yade, executable: .yade-2025/yade}]", *settings)
@@ -485,3 +486,26 @@ def test_yade_2025s_own_law_passes_and_its_coefficient_1e_5_off_fails(tmp_path):
     n, failing = junit(project)
     assert n == 3 and "yade-2025.viscoelastic_clipped.sphere-sphere.F0.eps" in failing
     assert "yade-2025 viscoelastic_clipped sphere-sphere F0 eps: " in out.stdout + out.stderr
+
+
+def test_yade_2025s_en_vn_passes_and_told_an_en_1e_4_off_fails_its_own_checks(tmp_path):
+    """The law en_vn (YADE's en + vn, Brilliantov's law at the K of its Pade): unmodified, YADE 2025
+    meets its own equation (T, A, eps under F0); with the en of the job file YADE reads scaled by
+    (1 + 1e-4), K moves, eps with it (~1e-4), and the gate FAILs, naming yade-2025 en_vn F0 eps."""
+    real = ROOT / ".yade-2025" / "yade"
+    if not real.exists():
+        missing("YADE 2025 is not installed; install it with: make yade-2025")
+    project = copy_workflow(tmp_path / "study", CASE)
+    wrapper = tmp_path / "yade-scaled"
+    wrapper.write_text(YADE_SCALING_WRAPPER.format(python=sys.executable, key="en", scale=1e-4, real=str(real)))
+    wrapper.chmod(0o755)
+    settings = ["laws=[en_vn]", "compare_builds=[]"]
+    ok = study(project, "builds=[{id: yade-2025, code: yade, executable: .yade-2025/yade}]", *settings)
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    assert junit(project) == (3, set())
+    out = study(project, f"builds=[{{id: yade-2025, code: yade, executable: {wrapper}}}]", *settings,
+                extra=("--forceall",))
+    assert out.returncode != 0
+    n, failing = junit(project)
+    assert n == 3 and "yade-2025.en_vn.sphere-sphere.F0.eps" in failing
+    assert "yade-2025 en_vn sphere-sphere F0 eps: " in out.stdout + out.stderr
