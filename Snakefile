@@ -47,8 +47,50 @@ def numbers_from_strings(value):
     return value
 
 
+# A release name is text ("9.10" is not 9.1): history.releases keeps what the command line gave.
+_RELEASES = config["history"].get("releases") if isinstance(config.get("history"), dict) else None
 for _key in list(config):
     config[_key] = numbers_from_strings(config[_key])
+if _RELEASES is not None:
+    config["history"]["releases"] = _RELEASES
+
+
+def release_problems(releases):
+    """Why entries of config history.releases cannot be PyPI releases (engines.releases), each naming
+    its key; checked before the schema, whose message would not say to quote a number."""
+    from engines.releases import release_problem
+
+    if not isinstance(releases, dict):
+        return []
+    return [p for code, values in releases.items() if isinstance(values, list)
+            for i, value in enumerate(values)
+            if (p := release_problem(code, value, f"config 'history.releases.{code}[{i}]'"))]
+
+
+def schema_problems(config, schema_file):
+    """Each way `config` breaks the schema, one line naming its key ("config 'history.K[0]': -1 is
+    less than or equal to the minimum of 0"): snakemake's own message prints the whole schema."""
+    import jsonschema
+    import yaml
+
+    schema = yaml.safe_load(open(schema_file))
+    lines = []
+    for err in sorted(jsonschema.Draft7Validator(schema).iter_errors(config), key=lambda e: list(e.path)):
+        key = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in err.path).lstrip(".") or "(top level)"
+        shown = repr(err.instance)
+        shown = shown if len(shown) <= 80 else shown[:77] + "..."
+        why = err.message if len(err.message) <= 160 else (
+            f"{shown} is not of type {err.validator_value!r}" if err.validator == "type"
+            else f"{shown} does not meet the schema's {err.validator!r}")
+        hint = (" (a --config value that is not valid YAML arrives as text: check its brackets and quotes)"
+                if isinstance(err.instance, str) and err.validator == "type" else "")
+        lines.append(f"config '{key}': {why}{hint}")
+    return lines
+
+
+if _problems := release_problems(_RELEASES) or schema_problems(config, "config/config.schema.yaml"):
+    sys.exit(f"{len(_problems)} problem(s) in the config (config/config.yaml, --config, --configfile; "
+             "config/config.schema.yaml):\n  " + "\n  ".join(_problems))
 validate(config, "config/config.schema.yaml")
 
 # The workflow's scripts import the project's packages and workflow/scripts/common.py.

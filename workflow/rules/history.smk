@@ -1,7 +1,7 @@
 # Every release of each code against the study's reduced checks and the defects it found
 # (snakemake -j2 history; results/history/, postprocess/history.py). Not part of `all`, and no
 # verdict: a defect of a release is a finding about that release. PyPI releases are installed on
-# demand (`make build <code>==<release>`, a venv each); a release that cannot be installed is a row
+# demand (engines.releases, as `make build <code>==<release>` does: a venv each); a release that cannot be installed is a row
 # naming the command, and the other releases still run. On the cluster (profiles/slurm) the install
 # and the runs of one release are one job (group `history`): SLURM's per-job cost once per release.
 
@@ -9,32 +9,60 @@ HISTORY = config["history"]
 
 
 def history_releases():
-    """{release id: {code, release, build (as data) and/or install (the command that installs it)}},
-    in config order: history.builds (study builds by id, and entries of their own), then
-    history.releases' PyPI releases."""
-    out = {}
-    for entry in HISTORY["builds"]:
+    """({release id: {code, release, build (as data) and/or install}}, [problem]) of config
+    history: history.builds (study builds by id, and entries of their own, whose `install` is a
+    make target of engines.releases.INSTALL_TARGETS, as an argument list) and history.releases'
+    PyPI releases (engines.releases: digits and dots), in config order. An entry that cannot be
+    one is a problem naming its key, not a release."""
+    from engines.releases import ReleaseError, checked, install_command
+
+    out, problems = {}, []
+    for i, entry in enumerate(HISTORY["builds"]):
+        where = f"config 'history.builds[{i}]'"
         if isinstance(entry, dict):  # a build of its own, installed on demand by its `install` command
-            build = load_builds([{k: entry[k] for k in ("id", "code", "executable")}], workflow.basedir)[0]
-            out[build.id] = {"code": build.code, "release": build.id, "install": entry.get("install", ""),
+            try:
+                build = load_builds([{k: entry[k] for k in ("id", "code", "executable")}], workflow.basedir)[0]
+                install = install_command(entry["install"], f"{where}.install") if "install" in entry else []
+            except (BuildError, ReleaseError) as err:
+                problems.append(str(err) if str(err).startswith(where) else f"{where}: {err}")
+                continue
+            out[build.id] = {"code": build.code, "release": build.id, "install": install,
                              "build": {"id": build.id, "code": build.code, "executable": build.executable}}
             continue
         build_id = entry
         if build_id not in BUILDS:  # builds given on the command line: the history runs without it
             if "history" in (requested()[0] or ()):
-                print(f"config 'history.builds': {build_id} left out: the study has no build {build_id!r} (its "
+                print(f"{where}: {build_id} left out: the study has no build {build_id!r} (its "
                       f"builds: {', '.join(BUILDS)})", file=sys.stderr)
             continue
         out[build_id] = {"code": BUILDS[build_id].code, "release": build_id, "build": build_params(build_id)}
     for code, releases in HISTORY["releases"].items():
-        for release in releases:
-            release = str(release)
-            out[f"{code}-{release}"] = {"code": code, "release": release,
-                                        "install": f"make build {code}=={release}"}
-    return out
+        for i, release in enumerate(releases):
+            try:
+                release = checked(code, release, f"config 'history.releases.{code}[{i}]'")
+            except ReleaseError as err:
+                problems.append(str(err))
+                continue
+            out[f"{code}-{release}"] = {"code": code, "release": release, "pypi": True,
+                                        "install": ["make", "build", f"{code}=={release}"]}
+    return out, problems
 
 
-HISTORY_RELEASES = history_releases()
+def history_requested():
+    """Whether this run's targets need the history: `history`, a file under results/history/, or
+    a history job; a bad history entry stops these alone, and only warns the others."""
+    targets, jobs = requested()
+    if targets is None:
+        return True
+    return (any(t == "history" or t.startswith("results/history") for t in targets)
+            or any(str(getattr(j, "rule_name", "")).startswith("history") for j in jobs))
+
+
+HISTORY_RELEASES, _history_problems = history_releases()
+if _history_problems and history_requested():
+    SETUP_PROBLEMS.append("\n".join(_history_problems))
+elif _history_problems and not IS_JOB:
+    print("\n".join(f"Warning: {p} (snakemake history refuses it)" for p in _history_problems), file=sys.stderr)
 
 
 rule history_install:
