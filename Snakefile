@@ -152,6 +152,7 @@ include: "workflow/rules/calibration.smk"
 include: "workflow/rules/compare.smk"
 include: "workflow/rules/keywords.smk"
 include: "workflow/rules/history.smk"
+include: "workflow/rules/config_files.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used. Every other
 # rule's job is a SLURM job of its own there (profiles/slurm), with its cluster_resources.
