@@ -20,6 +20,7 @@ import pandas as pd  # noqa: E402
 from contact_model import CRITERIA  # noqa: E402
 from contact_model.case_file import Case  # noqa: E402
 from contact_model.quantities import POISE  # noqa: E402
+from records.files import save_figure  # noqa: E402
 
 from .fit import WARN_CHI2_RED, Fit, exact_restitution  # noqa: E402
 from .loop import LOOP_LAW  # noqa: E402
@@ -82,7 +83,7 @@ def plot_fit(case: Case, fits: dict[str, Fit], path, loop: pd.DataFrame | None =
     axr.set_xlabel("impact velocity V [m/s]")
     axr.set_ylabel("eps - fit")
     axr.legend(fontsize=7, ncol=3)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
+    save_figure(fig, path, dpi=110, bbox_inches="tight")
     plt.close(fig)
 
 

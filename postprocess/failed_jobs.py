@@ -10,7 +10,12 @@ of an earlier run would even read its PASS. So the Snakefile's `onerror` hands S
 - asks SLURM (`sacct`) for each cluster job's state, time limit, memory and peak use,
 - writes the verdict FAIL naming every lost job and why into verdict.json, junit.xml and
   report.md / report.html, merged with what this run's report wrote before the failure, and
-- withdraws gate.txt (the PASS of a run that did not finish).
+- withdraws gate.txt (the PASS of a run that did not finish),
+
+in the study's folder (results/) and, for a job of one case (its `case` wildcard: run_engine,
+case_summary, case_verdict, ...), in that case's folder (results/<case>/) too, with that case's
+lost jobs: `snakemake -j2 steel` gates on results/steel/gate.txt, which must not outlive a failed
+case_verdict.
 
 The rules whose failure *is* a verdict (the gates: they exit non-zero on FAIL, after writing it)
 are not lost jobs and are left out.
@@ -317,16 +322,27 @@ def record_failed_jobs(log_path, results_dir="results", output_patterns: dict | 
         return record_interruption(jobs, patterns, results, command)
     failures = [job_failure(j, wildcards_of(patterns.get(j.rule, ()), j.outputs), sacct) for j in jobs]
     results.mkdir(parents=True, exist_ok=True)
-    (results / "gate.txt").unlink(missing_ok=True)
-    if is_stale(results):  # a verdict about earlier results: this run's FAIL replaces it, not joins it
-        for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
-            (results / name).unlink(missing_ok=True)
-    _merge_verdict(results / "verdict.json", failures)
-    _merge_junit(results / "junit.xml", failures)
-    _merge_report(results, failure_markdown(failures))
-    for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
-        backdate(results / name)  # written outside their rules: the next run rewrites them
+    write_failures(results, failures)
+    for case in dict.fromkeys(f["wildcards"]["case"] for f in failures if "case" in f["wildcards"]):
+        if (results / case).is_dir():
+            write_failures(results / case, [f for f in failures if f["wildcards"].get("case") == case])
     return failures
+
+
+def write_failures(folder: Path, failures: list[dict]) -> None:
+    """The FAIL of the lost jobs `failures` (`job_failure`) in the verdict files of `folder`: gate.txt
+    withdrawn; verdict.json, junit.xml, report.md and report.html merged with what is there (or,
+    when that is stale, a verdict about earlier results, replacing it) and dated 1970, so that the
+    next run rewrites them."""
+    (folder / "gate.txt").unlink(missing_ok=True)
+    if is_stale(folder):  # a verdict about earlier results: this run's FAIL replaces it, not joins it
+        for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
+            (folder / name).unlink(missing_ok=True)
+    _merge_verdict(folder / "verdict.json", failures)
+    _merge_junit(folder / "junit.xml", failures)
+    _merge_report(folder, failure_markdown(failures))
+    for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
+        backdate(folder / name)  # written outside their rules: the next run rewrites them
 
 
 #: What Snakemake logs when the user stops it (Ctrl-C, SIGINT), and how a job's script or shell

@@ -13,8 +13,11 @@ far end of what the ladder leaves open. A ladder with |e_q| - r_q > tolerance fa
 resolved, and too large. One in between fails as unresolved: the study cannot tell at this
 tolerance (its reason says so). A run that crashed, hung or left no result fails its ladder's
 checks (it can never hide as a missing row), a NaN error fails, and a study with no check at
-all is not a PASS. The verdict goes to `verdict.json` (read by the `gate` rule) and to JUnit XML
-(one test case per check, read by CI).
+all is not a PASS. The tolerance is relative and lies in (0, 1) (`tolerance_problems`: config
+`tolerance.T` of 1 or more is refused); above 1e-2 the verdict carries a warning saying so. The
+verdict goes to `verdict.json` (read by the `gate` rule, with the tolerances it was judged
+against), to JUnit XML (one test case per check, read by CI) and to checks.csv, all through
+`write_verdict_files`.
 
 Files are written atomically (a temporary file, then `os.replace`), so a reader sees the old
 file or the new one, never half of one.
@@ -34,6 +37,7 @@ from contact_model import GATED_LAWS
 from records.files import write_atomically
 
 from .quantities import GATED_QUANTITIES  # T, A, eps: the gated quantities
+from .verdict_files import tolerance_problems, tolerance_warnings
 
 GROUP = ["build", "law", "geometry", "criterion"]
 #: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
@@ -282,7 +286,18 @@ def gating(checks: pd.DataFrame) -> pd.DataFrame:
 
 def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> dict:
     """The verdict: PASS only when there are gating checks and every one passes (the reported-only
-    checks, `regression_checks`, are listed under `reported`)."""
+    checks, `regression_checks`, are listed under `reported`). It states the tolerances it was
+    judged against (`tolerance`) and, for one above 1e-2, a warning (`warnings`).
+
+    Raises
+    ------
+    ValueError
+        A tolerance that is no relative tolerance (not in (0, 1)), naming it: 'tolerance.T = 10 is
+        not a relative tolerance: it must lie in (0, 1) ...'.
+    """
+    problems = tolerance_problems(tolerance)
+    if problems:
+        raise ValueError("; ".join(problems))
     reported = checks[~checks["gates"].astype(bool)] if "gates" in checks.columns else checks.iloc[:0]
     checks = gating(checks)
     failing = checks[~checks["pass"]]
@@ -292,7 +307,8 @@ def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> di
         failures = ["no gated check was made: the plans hold no run of a gated law"]
     return {"verdict": "PASS" if ok else "FAIL", "pass": ok, "checked": int(len(checks)),
             "failed": int(len(failing)) if len(checks) else 0, "failures": failures,
-            "tolerance": {q: float(tolerance[q]) for q in GATED_QUANTITIES}, "summary_sha256": summary_sha256,
+            "tolerance": {q: float(tolerance[q]) for q in GATED_QUANTITIES}, "warnings": tolerance_warnings(tolerance),
+            "summary_sha256": summary_sha256,
             "reported": [f"{check_name(r)}: {'pass' if r['pass'] else r['reason']}" for _, r in reported.iterrows()]}
 
 
@@ -340,3 +356,34 @@ def write_junit(checks: pd.DataFrame, path) -> None:
 
 def write_verdict(verdict: dict, path) -> None:
     write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+
+
+def write_checks(checks: pd.DataFrame, path) -> None:
+    """checks.csv, atomically."""
+    write_atomically(path, checks.to_csv(index=False, float_format="%.12g"))
+
+
+def write_verdict_files(checks: pd.DataFrame, verdict: dict, paths, report=None) -> None:
+    """The one place a verdict is written (the study's checks rule, a case's verdict rule): checks.csv,
+    junit.xml, then the report (`report`, a callable that writes it, where the rule has one), then
+    verdict.json, last, so that its presence means the rest is written. Each file is written
+    atomically. gate.txt is not among them: the gate rules write it from verdict.json
+    (`postprocess.verdict_files.gate_text`), and these rules withdraw it before they start
+    (`postprocess.verdict_files.withdraw_gate`).
+
+    Parameters
+    ----------
+    checks : DataFrame
+        `gate_checks` (and `regression_checks`).
+    verdict : dict
+        `verdict_of(checks, ...)`.
+    paths : mapping
+        With keys checks, junit and verdict: where each goes (a rule's `snakemake.output`).
+    report : callable, optional
+        Writes the report (its markdown, HTML and plots); called after junit.xml, before verdict.json.
+    """
+    write_checks(checks, paths["checks"])
+    write_junit(checks, paths["junit"])
+    if report is not None:
+        report()
+    write_verdict(verdict, paths["verdict"])

@@ -28,6 +28,7 @@ import re
 import pandas as pd
 
 from contact_model.keywords import KEYWORDS, MONTHS, release_date
+from records.files import save_figure
 
 #: The columns of results/history/history.csv: the first six are the issue's; `build` is the id the
 #: release ran as, `banner` its version banner, `date` its release date (from the banner; '' when
@@ -263,7 +264,7 @@ def plot_history(table: pd.DataFrame, path) -> None:
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

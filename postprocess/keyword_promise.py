@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 
 from engines.ladder import RESOLUTION_FLOOR, extrapolate, powers_of
+from records.files import save_figure
 
 COLUMNS = ["code", "build", "keyword", "e_requested", "V", "criterion", "eps_delivered", "eps_own_equation",
            "err_own_equation", "err_promise", "resolution", "problem"]
@@ -104,7 +105,7 @@ def plot_promise(table: pd.DataFrame, path) -> None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -120,6 +121,10 @@ def promise_over_velocity(keywords, restitutions, ratios=VELOCITY_RATIOS) -> pd.
     criterion. The other keywords' restitution does not depend on V (form 'quarter') or is told
     per velocity (form 'velocity'): no rows.
 
+    A K the reference solver does not take (outside `reference.collision_ode.K_RANGE`, [0, 10]:
+    YADE's en + vn told e = 0.05 reaches K = 11.5 at 10 vn) is a row of its own with no eps and
+    a `note` saying so ('out of the reference's range: K = 11.5 > 10'), not an error.
+
     Parameters
     ----------
     keywords : iterable of contact_model.keywords.Keyword
@@ -131,9 +136,9 @@ def promise_over_velocity(keywords, restitutions, ratios=VELOCITY_RATIOS) -> pd.
     Returns
     -------
     DataFrame with columns keyword, e_requested, V_over_vn, K, eps_own_equation, err_promise
-    (eps - e).
+    (eps - e; both NaN where `note` says why), note ('' where eps was solved).
     """
-    from reference import solve_collision
+    from reference.collision_ode import K_RANGE, solve_collision
 
     rows = []
     for keyword in keywords:
@@ -143,11 +148,29 @@ def promise_over_velocity(keywords, restitutions, ratios=VELOCITY_RATIOS) -> pd.
             K_vn = keyword.b(keyword.told_for(float(e)))
             for r in ratios:
                 K = K_vn * float(r) ** 0.2
-                eps = solve_collision(K)[f"eps_{keyword.criterion}"]
+                note = out_of_range(K, K_RANGE)
+                eps = math.nan if note else solve_collision(K)[f"eps_{keyword.criterion}"]
                 rows.append({"keyword": keyword.name, "e_requested": float(e), "V_over_vn": float(r), "K": K,
-                             "eps_own_equation": eps, "err_promise": eps - float(e)})
+                             "eps_own_equation": eps, "err_promise": eps - float(e), "note": note})
     return pd.DataFrame(rows, columns=["keyword", "e_requested", "V_over_vn", "K", "eps_own_equation",
-                                       "err_promise"])
+                                       "err_promise", "note"])
+
+
+def out_of_range(K: float, K_range) -> str:
+    """'' when the reference solver takes `K` (within `K_range`, (low, high)), else why not:
+    'out of the reference's range: K = 11.5 > 10' (or '< low')."""
+    low, high = K_range
+    if K > high:
+        return f"out of the reference's range: K = {K:.3g} > {high:g}"
+    if K < low:
+        return f"out of the reference's range: K = {K:.3g} < {low:g}"
+    return ""
+
+
+def over_velocity_cell(eps: float, note: str) -> str:
+    """A cell of the summary's table of `promise_over_velocity`: eps to five decimals, or the note
+    saying why there is none."""
+    return note if isinstance(note, str) and note else f"{eps:.5f}"
 
 
 def sweep_metrics(sweep) -> tuple[dict, dict]:

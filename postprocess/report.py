@@ -317,6 +317,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
         "checks (engine build x law x geometry x criterion x quantity) pass; tolerances (relative, engine vs "
         "reference): "
         + ", ".join(f"{q} {tolerance[q]:g}" for q in GATED_QUANTITIES) + ".", "",
+        *(f"**Warning**: {w}.\n" for w in verdict.get("warnings", [])),  # a tolerance above 1e-2
     ]
     sentence = resolution_sentence(gating(checks), tolerance)
     if sentence:

@@ -24,6 +24,7 @@ import pandas as pd  # noqa: E402
 
 from contact_model import CRITERIA, GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
+from records.files import save_figure  # noqa: E402
 
 from .gate import GATED_QUANTITIES  # noqa: E402
 from .report_matrix import build_order  # noqa: E402
@@ -124,7 +125,7 @@ def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=N
     _legend(axes[0], styles, present)
     fig.suptitle(f"Criterion {criterion}: every engine run of every case (viscoelastic laws)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -153,7 +154,7 @@ def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -
         ax.set_xlabel("K")
     _legend(axes[0][0], styles, present)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

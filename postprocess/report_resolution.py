@@ -16,6 +16,8 @@ import pandas as pd  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
+from records.files import save_figure  # noqa: E402
+
 from .gate import GATED_QUANTITIES  # noqa: E402
 
 
@@ -101,7 +103,7 @@ def plot_ladders(runs: pd.DataFrame, limits: pd.DataFrame, tolerance: dict, path
     fig.suptitle("Every gated ladder: what the extrapolation removes from each rung (dissipative laws: slope 1; "
                  "elastic: slope 2)", fontsize=11)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
 
 

@@ -17,6 +17,7 @@ import pandas as pd
 from contact_model.keywords import KEYWORDS, keyword_reference
 from contact_model.laws import DAMPING_POWER
 from engines.codes import CODES, keyword_of
+from records.files import save_figure
 from reference import solve_collision
 
 from .map_reference import map_law
@@ -99,7 +100,7 @@ def plot_error_maps(bands: pd.DataFrame, path) -> None:
                 ax.set_ylabel("|relative error|")
     fig.legend(loc="lower center", ncol=min(len(laws), 5), fontsize=8)
     fig.tight_layout(rect=(0, 0.06 + 0.02 * (len(laws) // 5), 1, 1))
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
 
 
@@ -201,5 +202,5 @@ def plot_largest_steps(table: pd.DataFrame, path) -> None:
     fig.suptitle("The largest time step that holds each tolerance (solid 1e-2, dashed 1e-3, dotted 1e-4)",
                  fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)

@@ -26,6 +26,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import minimize_scalar
 
+from records.files import save_figure
+
 #: The share of the measured variation a form must explain to be said to follow eps(V).
 FOLLOWS_R2 = 0.9
 #: The legend's name of each form.
@@ -107,5 +109,5 @@ def plot_forms(V, eps, fits: pd.DataFrame, path, title: str) -> None:
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)

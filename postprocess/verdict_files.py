@@ -1,5 +1,7 @@
-"""The files that carry a verdict (gate.txt, verdict.json, junit.xml, the report): marked stale
-before results change, and the verdict of an interrupted run. (They are written with
+"""The files that carry a verdict (gate.txt, verdict.json, junit.xml, checks.csv, the report):
+marked stale before results change, the PASS stamp (gate.txt) withdrawn when a verdict is being
+made anew, its text (`gate_text`), the tolerances a verdict may be made at (`tolerance_problems`,
+`tolerance_warnings`), and the verdict of an interrupted run. (They are written with
 `records.files.write_atomically` and tied to the summary they describe by its
 `records.files.file_sha256`.)
 
@@ -7,7 +9,8 @@ A rule that changes results marks the verdict of its folders *stale* (`mark_stal
 remove it: the user keeps reading the study's report while one case reruns, and nothing in it
 still claims PASS for results it does not describe:
 
-- gate.txt, the PASS stamp, goes;
+- gate.txt, the PASS stamp, goes, and so does checks.csv (a pass per check, which a CSV cannot
+  mark);
 - verdict.json says ``"verdict": "STALE"``, ``"pass": false``, with what the verdict was, since
   when, which job changed results and the command that gives a verdict again;
 - junit.xml gains one failing test case, ``workflow.stale``, saying the same;
@@ -36,7 +39,14 @@ from pathlib import Path
 from records.files import write_atomically
 
 #: The files that carry a verdict; any rule that changes results marks them stale first.
-VERDICT_FILES = ("gate.txt", "verdict.json", "junit.xml", "report.md", "report.html")
+VERDICT_FILES = ("gate.txt", "verdict.json", "junit.xml", "checks.csv", "report.md", "report.html")
+#: The files marked stale by removal: what they say cannot carry a banner.
+_REMOVED_WHEN_STALE = ("gate.txt", "checks.csv")
+#: The quantities a verdict judges, each with its relative tolerance (config `tolerance:`).
+QUANTITIES = ("T", "A", "eps")
+#: A relative tolerance above this is allowed, with a warning in the log, verdict.json, gate.txt
+#: and the report: a PASS at it says little about an engine.
+LOOSE_TOLERANCE = 1e-2
 #: The JUnit test suite the study's gate writes (postprocess.gate.junit_xml).
 SUITE = "hertz-dem-gate"
 #: The stale banner's markers in report.md and report.html: a new note replaces the old one.
@@ -56,6 +66,62 @@ def withdraw_verdict(results_dir="results") -> list[str]:
             continue
         removed.append(str(p))
     return removed
+
+
+def withdraw_gate(folder) -> bool:
+    """Remove the PASS stamp `folder`/gate.txt: the rules that make the verdict of `folder` anew
+    (the checks, a case's verdict, the report) call this first, so that no PASS stands while they
+    run or after they fail (killed, a full disk, a read-only folder). Whether there was one."""
+    try:
+        (Path(folder) / "gate.txt").unlink()
+    except FileNotFoundError:
+        return False
+    return True
+
+
+def tolerance_problems(tolerance: dict) -> list[str]:
+    """Why `tolerance` (config `tolerance:`, {quantity: relative tolerance}) cannot judge a verdict,
+    one message per bad value naming its key; empty when it can. A relative tolerance lies in
+    (0, 1): at 1 or more, an engine whose T, A or eps is off by 100 % would pass.
+
+    'tolerance.T = 10 is not a relative tolerance: it must lie in (0, 1) (1e-6 is one part in a
+    million, the study's)'."""
+    problems = []
+    for q in QUANTITIES:
+        value = tolerance.get(q) if isinstance(tolerance, dict) else None
+        if value is None:
+            problems.append(f"tolerance.{q} is missing: give the relative tolerance of {q}, e.g. 1e-6")
+        elif isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < 1:
+            problems.append(f"tolerance.{q} = {value!r} is not a relative tolerance: it must lie in (0, 1) "
+                            "(1e-6 is one part in a million, the study's)")
+    return problems
+
+
+def tolerance_warnings(tolerance: dict) -> list[str]:
+    """One warning per tolerance above LOOSE_TOLERANCE (1e-2), naming its key:
+    'tolerance.T = 0.05 is above 1e-2: a PASS at it allows T to be off by 5 %'."""
+    return [f"tolerance.{q} = {tolerance[q]:g} is above 1e-2: a PASS at it allows {q} to be off by "
+            f"{100 * tolerance[q]:g} %" for q in QUANTITIES
+            if isinstance(tolerance.get(q), (int, float)) and tolerance[q] > LOOSE_TOLERANCE]
+
+
+def tolerance_text(tolerance: dict) -> str:
+    """'T 1e-06, A 1e-06, eps 1e-06': what a verdict was judged against."""
+    return ", ".join(f"{q} {float(tolerance[q]):g}" for q in QUANTITIES if q in tolerance)
+
+
+def gate_text(verdict: dict, summary_sha256: str) -> str:
+    """gate.txt of a PASS `verdict` (`postprocess.gate.verdict_of`): how many checks passed, the
+    tolerances they were judged against, the summary they were computed from, then the verdict's
+    warnings, one line each::
+
+        PASS: 30 engine build x law x geometry x criterion x quantity checks within tolerance (relative:
+        T 1e-06, A 1e-06, eps 1e-06; summary sha256 …)
+    """
+    lines = [f"PASS: {verdict['checked']} engine build x law x geometry x criterion x quantity checks within "
+             f"tolerance (relative: {tolerance_text(verdict['tolerance'])}; summary sha256 {summary_sha256})"]
+    lines += [f"Warning: {w}" for w in verdict.get("warnings", [])]
+    return "\n".join(lines) + "\n"
 
 
 def backdate(path) -> None:
@@ -83,9 +149,10 @@ def mark_stale(results_dir, by: str, rerun: str = "snakemake -j2 all") -> list[s
     and takes the newest note. Returns the files changed."""
     folder = Path(results_dir)
     changed = []
-    if (folder / "gate.txt").exists():
-        (folder / "gate.txt").unlink(missing_ok=True)
-        changed.append(str(folder / "gate.txt"))
+    for name in _REMOVED_WHEN_STALE:
+        if (folder / name).exists():
+            (folder / name).unlink(missing_ok=True)
+            changed.append(str(folder / name))
     now = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
     note = {"since": now, "by": by, "was": None, "rerun": rerun}
     path = folder / "verdict.json"
@@ -193,7 +260,9 @@ def verdict_line(results_dir="results") -> str:
     checked, failed = verdict.get("checked", 0), verdict.get("failed", 0)
     lost = len(verdict.get("failed_jobs", []))
     text = f"{kind}: {checked - failed} of {checked} gated checks pass"
-    return text + (f", {lost} job(s) did not finish" if lost else "") + where
+    judged = f" (tolerance, relative: {tolerance_text(verdict['tolerance'])})" if verdict.get("tolerance") else ""
+    warnings = "".join(f"\nWarning: {w}" for w in verdict.get("warnings", []))
+    return text + judged + (f", {lost} job(s) did not finish" if lost else "") + where + warnings
 
 
 if __name__ == "__main__":  # make study / make ci-study end their log with this line

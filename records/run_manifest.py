@@ -52,15 +52,44 @@ def read_manifest(path) -> dict:
     return content
 
 
-def verified_dump(path, sha256: str):
-    """read_dump(path) after checking that the file is the one the run wrote."""
+def dump_problem(path, sha256: str) -> str | None:
+    """Why the dump `path` is not the one its engine job wrote (its sha256 differs from the
+    manifest's `sha256`, or it cannot be read), naming the file; None when it is.
+
+    'results/steel/lammps/runs/x.csv: the dump changed after the engine job wrote it (sha256
+    3f2a…, manifest says 9c41…); rerun its engine job, e.g. snakemake --forcerun run_engine'."""
     try:
         found = file_sha256(path)
     except OSError as err:
-        raise DumpError(f"{path}: cannot read dump: {err.strerror}")
+        return f"{path}: cannot read dump: {err.strerror}"
     if found != sha256:
-        raise DumpError(f"{path}: the dump changed after the engine job wrote it (sha256 {found[:12]}…, manifest "
-                        f"says {sha256[:12]}…); rerun its engine job, e.g. snakemake --forcerun run_engine")
+        return (f"{path}: the dump changed after the engine job wrote it (sha256 {found[:12]}…, manifest "
+                f"says {sha256[:12]}…); rerun its engine job, e.g. snakemake --forcerun run_engine")
+    return None
+
+
+def changed_dumps(manifest_paths) -> list[str]:
+    """`dump_problem` of every dump of the manifests `manifest_paths` that has one, in their order:
+    empty when every dump is the one its engine job wrote. A manifest that cannot be read is a
+    problem of its own. The workflow's gates refuse a PASS while this is not empty, and the case
+    summary reruns when it changes (workflow/rules/engines.smk). It reads every dump once: about
+    1 s per GB (sha256)."""
+    problems = []
+    for manifest in manifest_paths:
+        try:
+            dumps = read_manifest(manifest)["dumps"]
+        except DumpError as err:
+            problems.append(str(err))
+            continue
+        problems += [p for p in (dump_problem(d["path"], d["sha256"]) for d in dumps) if p]
+    return problems
+
+
+def verified_dump(path, sha256: str):
+    """read_dump(path) after checking that the file is the one the run wrote (`dump_problem`)."""
+    problem = dump_problem(path, sha256)
+    if problem:
+        raise DumpError(problem)
     return read_dump(path)
 
 

@@ -110,3 +110,102 @@ def test_series_of_unequal_length_and_force_not_positive_on_contact():
     x = np.where((t > 0.1) & (t < 0.9), 0.1, -0.1)
     with pytest.raises(ExtractionError, match="not positive at the first sample in contact"):
         collision_metrics(t, x, np.ones(50), np.where(x > 0, 0.0, 0.0), 1.0)
+
+
+def test_changed_dumps_names_every_dump_that_is_not_the_one_its_job_wrote(job):
+    """The check the gates run before a PASS, and the case summary's rerun trigger
+    (workflow/rules/engines.smk): empty for intact dumps; a truncated dump, an edited one and a
+    missing one each named."""
+    from records.run_manifest import changed_dumps
+
+    assert changed_dumps([job]) == []
+    a, b = job.parent / "runs" / "a.csv", job.parent / "runs" / "b.csv"
+    a.write_text(a.read_text()[: a.stat().st_size // 2])
+    problems = changed_dumps([job])
+    assert len(problems) == 1
+    assert problems[0].startswith(f"{a}: the dump changed after the engine job wrote it (sha256 ")
+    assert problems[0].endswith("rerun its engine job, e.g. snakemake --forcerun run_engine")
+    b.unlink()
+    assert [p.split(": ", 1)[1][:16] for p in changed_dumps([job])] == ["the dump changed", "cannot read dump"]
+    assert changed_dumps([job.parent / "nowhere.json"])[0].startswith(
+        f"{job.parent / 'nowhere.json'}: not a readable engine-job manifest")
+
+
+FULL_DISK = """
+import io, resource, signal, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from records.files import save_figure
+fig, ax = plt.subplots()
+ax.imshow(np.random.default_rng(1).random((300, 300)))  # noise: a PNG of some 100 kB
+size = len((fig.savefig(buf := io.BytesIO(), format="png", dpi=100), buf.getvalue())[1])
+# The disk fills 100 bytes short of the picture: the last write, when the file is closed, fails
+# (with EFBIG here, ENOSPC on a full disk).
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (size - 100, resource.RLIM_INFINITY))
+try:
+    {save}
+except OSError as err:
+    print(f"{{type(err).__name__}}: {{err}}")
+print(f"size {{size}}")
+"""
+
+
+@pytest.mark.parametrize("atomic", [False, True])
+def test_a_figure_whose_save_fails_leaves_no_file(tmp_path, atomic):
+    """A disk that fills while a figure is saved (here: the process may write the picture's size
+    less 100 bytes per file; a write past that fails, as on a full disk). Saved by matplotlib alone,
+    a truncated PNG remains under the real name, its first bytes a PNG's; through
+    records.files.save_figure, neither the figure nor a temporary file remains, and the error
+    names the figure."""
+    import re
+    import subprocess
+    import sys
+
+    target = tmp_path / "timestep.png"
+    save = "save_figure(fig, sys.argv[1], dpi=100)" if atomic else "fig.savefig(sys.argv[1], dpi=100)"
+    out = subprocess.run([sys.executable, "-c", FULL_DISK.format(save=save), str(target)], capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    size = int(re.search(r"size (\d+)", out.stdout)[1])
+    assert "File too large" in out.stdout and size > 50_000
+    if atomic:
+        assert f"[Errno 27] File too large: '{target}'" in out.stdout
+        assert list(tmp_path.iterdir()) == []
+    else:  # what the study saw: a truncated picture under its name
+        assert target.stat().st_size == size - 100 and target.read_bytes().startswith(b"\x89PNG")
+
+
+def test_a_failed_atomic_write_leaves_the_old_file_and_no_temporary(tmp_path):
+    """write_atomically of 10 kB where a process may write 4 kB per file (as on a full disk): the
+    old file stays whole, no temporary file stays, and the error names the file."""
+    import subprocess
+    import sys
+
+    from records.files import write_atomically
+
+    target = tmp_path / "verdict.json"
+    write_atomically(target, "old\n")
+    script = ("import resource, signal, sys\nfrom records.files import write_atomically\n"
+              "signal.signal(signal.SIGXFSZ, signal.SIG_IGN)\n"
+              "resource.setrlimit(resource.RLIMIT_FSIZE, (4096, resource.RLIM_INFINITY))\n"
+              "try:\n    write_atomically(sys.argv[1], 'x' * 10_000)\n"
+              "except OSError as err:\n    print(err)\n")
+    out = subprocess.run([sys.executable, "-c", script, str(target)], capture_output=True, text=True, timeout=60)
+    assert out.stdout == f"[Errno 27] File too large: '{target}'\n", out.stderr
+    assert target.read_text() == "old\n" and [p.name for p in tmp_path.iterdir()] == ["verdict.json"]
+
+
+def test_every_figure_of_the_project_is_saved_through_save_figure():
+    """No module calls matplotlib's savefig itself: each goes through records.files.save_figure."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    sources = [p for folder in ("reference", "contact_model", "records", "engines", "postprocess", "calibration",
+                                "workflow", "benchmarks") for p in (root / folder).rglob("*.py")]
+    direct = [f"{p.relative_to(root)}:{i + 1}" for p in sources if p.name != "files.py" or p.parent.name != "records"
+              for i, line in enumerate(p.read_text().splitlines()) if re.search(r"\.savefig\(", line)]
+    assert direct == [] and len(sources) > 50

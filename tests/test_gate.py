@@ -199,13 +199,15 @@ def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
 
 
 def test_mark_stale_keeps_the_reports_readable_and_nothing_says_pass(tmp_path):
-    """A rule about to change results marks the verdict stale: gate.txt goes, verdict.json says
-    STALE (what it was, since when, by which job, how to get a verdict), junit.xml gains one failing
-    case, both reports open with the banner; every file is dated 1970 so that Snakemake rewrites it."""
+    """A rule about to change results marks the verdict stale: gate.txt and checks.csv (a pass per
+    check) go, verdict.json says STALE (what it was, since when, by which job, how to get a
+    verdict), junit.xml gains one failing case, both reports open with the banner; every file is
+    dated 1970 so that Snakemake rewrites it."""
     write_verdict({"verdict": "PASS", "pass": True, "checked": 6, "failed": 0, "failures": []},
                   tmp_path / "verdict.json")
     assert not list(tmp_path.glob(".*.part"))  # written atomically: no temporary left behind
     (tmp_path / "gate.txt").write_text("PASS: 6 checks\n")
+    (tmp_path / "checks.csv").write_text("build,pass\nlammps,True\n")
     (tmp_path / "report.md").write_text("# Report\n\n**Verdict: PASS**\n")
     (tmp_path / "report.html").write_text("<html><body><p>PASS</p></body></html>")
     junit_xml(pd.DataFrame(columns=CHECK_COLUMNS)).write(tmp_path / "junit.xml")
@@ -213,7 +215,8 @@ def test_mark_stale_keeps_the_reports_readable_and_nothing_says_pass(tmp_path):
     failures_before = int(ET.parse(tmp_path / "junit.xml").getroot().get("failures"))
     changed = mark_stale(tmp_path, "run_engine (case steel, build lammps)", "snakemake -j2 steel")
     assert sorted(Path(p).name for p in changed) == sorted(VERDICT_FILES)
-    assert not (tmp_path / "gate.txt").exists() and (tmp_path / "summary.csv").read_text() == "kept"
+    assert not (tmp_path / "gate.txt").exists() and not (tmp_path / "checks.csv").exists()
+    assert (tmp_path / "summary.csv").read_text() == "kept"
     verdict = json.loads((tmp_path / "verdict.json").read_text())
     assert verdict["verdict"] == "STALE" and verdict["pass"] is False and verdict["checked"] == 6
     assert verdict["stale"]["was"] == "PASS" and verdict["stale"]["by"] == "run_engine (case steel, build lammps)"
@@ -225,7 +228,7 @@ def test_mark_stale_keeps_the_reports_readable_and_nothing_says_pass(tmp_path):
     root = ET.parse(tmp_path / "junit.xml").getroot()
     assert int(root.get("failures")) == failures_before + 1
     assert root.find(".//testcase[@name='stale']/failure") is not None
-    assert all((tmp_path / n).stat().st_mtime == 0 for n in VERDICT_FILES if n != "gate.txt")
+    assert all((tmp_path / n).stat().st_mtime == 0 for n in VERDICT_FILES if n not in ("gate.txt", "checks.csv"))
     # Marked again (another job): one banner, one stale case, and it still knows what it was and since when.
     since = verdict["stale"]["since"]
     mark_stale(tmp_path, "case_summary (case steel)")
@@ -317,3 +320,66 @@ def test_jobs_that_start_together_mark_the_verdict_stale_at_once_without_a_colli
     assert (tmp_path / "report.md").read_text().count("<!-- stale -->") == 1
     assert len(ET.parse(tmp_path / "junit.xml").getroot().findall(".//testcase[@name='stale']")) == 1
     assert not list(tmp_path.glob(".*.part"))
+
+
+def test_a_tolerance_of_1_or_more_is_no_relative_tolerance_and_one_above_1e_2_is_warned():
+    """tolerance_problems names the key of every value outside (0, 1); verdict_of refuses them,
+    and states what a verdict was judged against, with a warning above 1e-2."""
+    from postprocess.verdict_files import LOOSE_TOLERANCE, tolerance_problems, tolerance_warnings
+
+    assert tolerance_problems(TOL) == [] and tolerance_warnings(TOL) == []
+    assert tolerance_problems({"T": 10, "A": 1.0, "eps": 0}) == [
+        f"tolerance.{q} = {v} is not a relative tolerance: it must lie in (0, 1) (1e-6 is one part in a million, "
+        "the study's)" for q, v in (("T", 10), ("A", 1.0), ("eps", 0))]
+    assert tolerance_problems({"T": 1e-6, "A": 1e-6}) == [
+        "tolerance.eps is missing: give the relative tolerance of eps, e.g. 1e-6"]
+    checks = gate_checks(pd.DataFrame(rows("a")), plan(("a", "lammps", "viscoelastic", "sphere-sphere")),
+                         no_failures(), TOL)
+    with pytest.raises(ValueError, match=r"^tolerance\.T = 10 is not a relative tolerance: it must lie in \(0, 1\)"):
+        verdict_of(checks, "sha", {**TOL, "T": 10})
+    assert LOOSE_TOLERANCE == 1e-2
+    loose = {**TOL, "T": 0.05}
+    assert tolerance_warnings({**TOL, "T": 1e-2}) == []  # at 1e-2: no warning
+    v = verdict_of(checks, "sha", loose)
+    assert v["verdict"] == "PASS" and v["tolerance"] == {"T": 0.05, "A": 1e-6, "eps": 1e-6}
+    assert v["warnings"] == ["tolerance.T = 0.05 is above 1e-2: a PASS at it allows T to be off by 5 %"]
+    assert verdict_of(checks, "sha", TOL)["warnings"] == []
+
+
+def test_gate_txt_and_the_verdict_line_state_the_tolerances_and_the_warnings(tmp_path):
+    from postprocess.verdict_files import gate_text, verdict_line
+
+    v = {"verdict": "PASS", "pass": True, "checked": 30, "failed": 0, "failures": [],
+         "tolerance": {"T": 0.05, "A": 1e-6, "eps": 1e-6},
+         "warnings": ["tolerance.T = 0.05 is above 1e-2: a PASS at it allows T to be off by 5 %"]}
+    assert gate_text(v, "abc") == (
+        "PASS: 30 engine build x law x geometry x criterion x quantity checks within tolerance (relative: T 0.05, "
+        "A 1e-06, eps 1e-06; summary sha256 abc)\n"
+        "Warning: tolerance.T = 0.05 is above 1e-2: a PASS at it allows T to be off by 5 %\n")
+    write_verdict(v, tmp_path / "verdict.json")
+    assert verdict_line(tmp_path) == ("PASS: 30 of 30 gated checks pass (tolerance, relative: T 0.05, A 1e-06, "
+                                      "eps 1e-06)\nWarning: tolerance.T = 0.05 is above 1e-2: a PASS at it allows T "
+                                      "to be off by 5 %")
+
+
+def test_the_verdict_files_are_written_from_one_place_verdict_json_last(tmp_path):
+    """write_verdict_files: checks.csv, junit.xml, the report, then verdict.json; a report that fails
+    leaves no verdict.json (and no temporary file)."""
+    from postprocess.gate import write_verdict_files
+
+    checks = gate_checks(pd.DataFrame(rows("a")), plan(("a", "lammps", "viscoelastic", "sphere-sphere")),
+                         no_failures(), TOL)
+    paths = {"checks": tmp_path / "checks.csv", "junit": tmp_path / "junit.xml", "verdict": tmp_path / "verdict.json"}
+    seen = []
+
+    def report():
+        seen.append(sorted(p.name for p in tmp_path.iterdir()))
+        raise OSError(30, "Read-only file system", str(tmp_path / "plots"))
+
+    with pytest.raises(OSError, match="Read-only file system"):
+        write_verdict_files(checks, verdict_of(checks, "sha", TOL), paths, report=report)
+    assert seen == [["checks.csv", "junit.xml"]] and not paths["verdict"].exists()
+    assert not list(tmp_path.glob(".*.part"))
+    write_verdict_files(checks, verdict_of(checks, "sha", TOL), paths)
+    assert pd.read_csv(paths["checks"])["pass"].all() and len(pd.read_csv(paths["checks"])) == 6
+    assert json.loads(paths["verdict"].read_text())["tolerance"] == TOL

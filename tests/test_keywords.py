@@ -82,3 +82,69 @@ def test_esys_writes_pi_as_3_1415926_and_keeps_its_promise_to_1e_7():
     err = promised_restitution("esys:HertzMindlinVisco", 0.5) - 0.5
     assert 0 < abs(err) < 1e-7
     assert log_beta(0.5, pi=3.1415926) != log_beta(0.5)
+
+
+def test_a_k_beyond_the_reference_solvers_range_is_a_cell_that_says_so_not_a_crash():
+    """YADE's en + vn told the shipped config's e = 0.05 at vn reaches K = 11.49 at V = 10 vn, beyond
+    the reference solver's [0, 10]: promise_over_velocity gives that row no eps and a note, and
+    every other e of the shipped grid its eps (`snakemake -j2 keywords` crashed there)."""
+    from pathlib import Path
+
+    import yaml
+
+    from postprocess.keyword_promise import over_velocity_cell, promise_over_velocity
+    from reference import solve_collision
+
+    grid = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())
+    restitution = grid["keywords"]["restitution"]
+    assert 0.05 in restitution
+    table = promise_over_velocity(KEYWORDS.values(), restitution)
+    assert set(table.keyword) == {"yade:en-vn"} and len(table) == 6 * len(restitution)
+    out = table[table.note != ""]
+    assert list(zip(out.e_requested, out.V_over_vn)) == [(0.05, 10.0)]
+    row = out.iloc[0]
+    assert row.K == pytest.approx(11.48785974, rel=1e-8) and math.isnan(row.eps_own_equation)
+    assert row.note == "out of the reference's range: K = 11.5 > 10"
+    assert over_velocity_cell(row.eps_own_equation, row.note) == row.note
+    inside = table[(table.e_requested == 0.05) & (table.V_over_vn == 3.0)].iloc[0]
+    assert inside.eps_own_equation == pytest.approx(solve_collision(inside.K)["eps_F0"], abs=0)
+    assert over_velocity_cell(inside.eps_own_equation, inside.note) == f"{inside.eps_own_equation:.5f}"
+    assert table.drop(out.index).eps_own_equation.notna().all()
+
+
+def test_the_keywords_target_with_yade_2025_told_e_0_05_tabulates_the_out_of_range_cell(tmp_path):
+    """`snakemake -j2 keywords` with YADE 2025 told the shipped grid's smallest e, 0.05 (and 0.5):
+    it finishes (it crashed after 57 s with 'ValueError: K must lie in [0.0, 10.0], got [11.48785974]'),
+    promise.md's cell at V = 10 vn says why it has no eps, and the log says it too."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import pandas as pd
+
+    from engine_cases import missing
+    from workflow_copy import copy_workflow
+
+    root = Path(__file__).resolve().parents[1]
+    if not (root / ".yade-2025" / "yade").exists():
+        missing("YADE 2025 is not installed; install it with: make yade-2025")
+    project = copy_workflow(tmp_path / "project")
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "keywords", "--config",
+                          "builds=[{id: yade-2025, code: yade, executable: .yade-2025/yade}]",
+                          "keywords={case: cases/steel.yaml, geometry: sphere-sphere, velocity: 1.0, "
+                          "restitution: [0.05, 0.5], measured: null}"],
+                         cwd=project, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    keywords = project / "results" / "keywords"
+    summary = (keywords / "promise.md").read_text()
+    row = next(line for line in summary.splitlines() if line.startswith("| 0.05 "))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[-1] == "out of the reference's range: K = 11.5 > 10"
+    assert all(float(c) > 0 for c in cells[1:-1])  # the other velocities' eps
+    over = pd.read_csv(keywords / "promise_over_velocity.csv")
+    assert over.note.fillna("").tolist().count("out of the reference's range: K = 11.5 > 10") == 1
+    assert f"## {KEYWORDS['yade:en-vn'].written}: away from the velocity it is told" in summary
+    log = (project / "logs" / "keywords" / "summary.log").read_text()
+    assert "out of the reference's range: K = 11.5 > 10" in log
+    promise = pd.read_csv(keywords / "promise.csv").set_index(["keyword", "e_requested"])
+    assert abs(promise.loc[("yade:en-vn", 0.5)].err_own_equation) + promise.loc[("yade:en-vn", 0.5)].resolution <= 1e-6

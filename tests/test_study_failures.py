@@ -509,3 +509,110 @@ def test_yade_2025s_en_vn_passes_and_told_an_en_1e_4_off_fails_its_own_checks(tm
     n, failing = junit(project)
     assert n == 3 and "yade-2025.en_vn.sphere-sphere.F0.eps" in failing
     assert "yade-2025 en_vn sphere-sphere F0 eps: " in out.stdout + out.stderr
+
+
+def case_verdict_files(project, case="steel"):
+    return sorted(p.name for p in (project / "results" / case).glob("*") if p.name in
+                  ("gate.txt", "verdict.json", "junit.xml", "checks.csv", "report.md", "report.html"))
+
+
+def test_a_case_verdict_that_fails_leaves_no_pass_of_its_case(project):
+    """The audit's case: the case passes; then its plots folder is read-only (a read-only bind mount,
+    bwrap) and a new tolerance reruns case_verdict, which fails writing its first figure. Its
+    gate.txt (the case gate's output, which Snakemake does not remove) went when case_verdict
+    started, and its verdict says FAIL naming the job and the file; the old figure is whole, no
+    temporary file is left; with the folder writable again the case passes."""
+    if shutil.which("bwrap") is None:
+        missing("bwrap is not installed; install it with: sudo apt-get install bubblewrap (make yade-2025 does this)")
+    ok = study(project, target="steel")
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    case = project / "results" / "steel"
+    assert (case / "gate.txt").read_text().startswith("PASS: 9 ")
+    plots = case / "plots"
+    figure = (plots / "timestep.png").read_bytes()
+    read_only = ["bwrap", "--bind", "/", "/", "--dev-bind", "/dev", "/dev", "--ro-bind", str(plots), str(plots)]
+    out = subprocess.run([*read_only, sys.executable, "-m", "snakemake", "-j2", "steel", "--config", *SMALL,
+                          "tolerance={T: 1e-9, A: 1e-6, eps: 1e-6}"], cwd=project, capture_output=True, text=True,
+                         timeout=600)
+    assert out.returncode != 0
+    said = "OSError: [Errno 30] Read-only file system: 'results/steel/plots/timestep.png'"
+    assert f"case_verdict (case steel): {said}" in out.stderr
+    assert case_verdict_files(project) == ["junit.xml", "report.html", "report.md", "verdict.json"]  # no gate.txt
+    verdict = json.loads((case / "verdict.json").read_text())
+    assert verdict["verdict"] == "FAIL" and verdict["failures"] == [f"case_verdict (case steel) did not finish: {said}"]
+    assert junit(project) == (1, {"workflow.case_verdict.case=steel"})  # the study's verdict says it too
+    assert "## The workflow did not finish: FAIL" in (case / "report.md").read_text()
+    assert "withdrew results/steel/gate.txt: the case's verdict is being made anew" in \
+        (project / "logs" / "steel" / "verdict.log").read_text()
+    assert sorted(p.name for p in plots.iterdir()) == sorted(p.name for p in plots.iterdir() if p.suffix == ".png")
+    assert (plots / "timestep.png").read_bytes() == figure
+    again = study(project, target="steel")
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert (case / "gate.txt").read_text().startswith("PASS: 9 ")
+
+
+def test_a_dump_changed_by_hand_fails_the_next_run_naming_it_without_being_told(project):
+    """A dump truncated by hand after a PASS: the next plain `snakemake -j2 steel` reruns the case's
+    summary (a param of it lists the dumps that no longer match their manifest), which refuses the
+    dump by name: FAIL, no gate.txt. The documented repair (--forcerun run_engine) passes, and the
+    run after it has nothing to do. A dump edited in place with Snakemake told to look at mtimes
+    alone (no params trigger) is caught by the gate, which checks every dump before a PASS."""
+    ok = study(project, target="steel")
+    assert ok.returncode == 0, ok.stderr[-3000:]
+    case = project / "results" / "steel"
+    dump = next((case / "lammps" / "runs").glob("lammps-viscoelastic-*.csv"))
+    text = dump.read_text()
+    dump.write_text(text[: len(text) // 2])
+    out = study(project, target="steel")
+    assert out.returncode != 0
+    named = f"DumpError: {dump.relative_to(project)}: the dump changed after the engine job wrote it (sha256 "
+    assert f"case_summary (case steel): {named}" in out.stderr
+    assert "reason: Params have changed since last execution" in out.stdout + out.stderr
+    assert not (case / "gate.txt").exists()
+    verdict = json.loads((case / "verdict.json").read_text())
+    assert verdict["verdict"] == "FAIL" and verdict["failed_jobs"][0]["reason"].startswith(named)
+    assert json.loads((project / "results" / "verdict.json").read_text())["verdict"] == "FAIL"
+
+    repaired = study(project, target="steel", extra=("--forcerun", "run_engine"))
+    assert repaired.returncode == 0, repaired.stderr[-3000:]
+    assert (case / "gate.txt").read_text().startswith("PASS: 9 ")
+    idle = study(project, target="steel")
+    assert idle.returncode == 0 and "Nothing to be done" in idle.stdout + idle.stderr
+
+    other = next((case / "lammps" / "runs").glob("lammps-default-*.csv"))
+    other.write_text(other.read_text()[:-3] + "9\n")  # the last digit of the last force
+    gate = study(project, target="steel", extra=("--rerun-triggers", "mtime", "--forcerun", "case_gate"))
+    assert gate.returncode != 0
+    assert ("FAIL: 1 dump(s) are not the ones their engine jobs wrote; the verdict of results/steel is withdrawn "
+            f"(STALE):\n  {other.relative_to(project)}: the dump changed after the engine job wrote it") in gate.stderr
+    assert case_verdict_files(project) == ["junit.xml", "report.html", "report.md", "verdict.json"]
+    stale = json.loads((case / "verdict.json").read_text())
+    assert stale["verdict"] == "STALE" and stale["stale"]["was"] == "PASS"
+    assert stale["stale"]["rerun"] == "snakemake -j2 steel --forcerun run_engine"
+    assert "**STALE**: results changed since this verdict (PASS) was written: 1 dump(s) changed after their engine " \
+           f"job wrote them (first: {other.relative_to(project)})" in (case / "report.md").read_text()
+
+
+def test_a_tolerance_of_1_or_more_is_refused_naming_it_and_a_loose_one_is_stated_and_warned(project):
+    """tolerance.T = 10 (and = 1) is refused before any job, by the config schema, naming the key; at
+    0.05 the study passes, and gate.txt, verdict.json, the report and the logs say what the PASS was
+    judged against and warn that it is loose."""
+    for T in ("10", "1"):
+        refused = study(project, f"tolerance={{T: {T}, A: 1e-6, eps: 1e-6}}")
+        assert refused.returncode != 0 and not (project / "results").exists()
+        said = refused.stdout + refused.stderr
+        assert f"config 'tolerance.T': {T} is greater than or equal to the maximum of 1" in said
+        assert "Traceback" not in said
+    out = study(project, "tolerance={T: 0.05, A: 1e-6, eps: 1e-6}")
+    assert out.returncode == 0, out.stderr[-3000:]
+    warning = "tolerance.T = 0.05 is above 1e-2: a PASS at it allows T to be off by 5 %"
+    assert f"Warning: {warning}" in out.stderr
+    gate = (project / "results" / "gate.txt").read_text().splitlines()
+    assert gate[0].startswith("PASS: 9 engine build x law x geometry x criterion x quantity checks within tolerance "
+                              "(relative: T 0.05, A 1e-06, eps 1e-06; summary sha256 ")
+    assert gate[1:] == [f"Warning: {warning}"]
+    verdict = json.loads((project / "results" / "verdict.json").read_text())
+    assert verdict["tolerance"] == {"T": 0.05, "A": 1e-6, "eps": 1e-6} and verdict["warnings"] == [warning]
+    assert f"**Warning**: {warning}." in report_head(project)
+    assert warning in (project / "logs" / "checks.log").read_text()
+    assert warning in (project / "logs" / "gate.log").read_text()

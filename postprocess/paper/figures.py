@@ -17,6 +17,7 @@ import pandas as pd  # noqa: E402
 
 from reference import collision_trajectory, hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 from reference.critical import PAPER_RULE_PREFACTOR  # noqa: E402
+from records.files import save_figure  # noqa: E402
 
 from ..energy import energy_partition  # noqa: E402
 
@@ -47,7 +48,7 @@ def figure_1(path, K_max: float = 1.0) -> None:
     inset.plot(K, 1 - paper_series_value("eps", K) ** 2, "k--", lw=1)
     inset.set_title("xi = 1 - eps^2", fontsize=8)
     inset.tick_params(labelsize=7)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
+    save_figure(fig, path, dpi=110, bbox_inches="tight")
     plt.close(fig)
 
 
@@ -75,7 +76,7 @@ def figure_3(summary: pd.DataFrame, path) -> None:
     ax.set_title(f"Every DEM ladder ({', '.join(pd.unique(runs.build)) if 'build' in runs else 'every engine'}; "
                  "both geometries), dt -> 0, on eps(K)", fontsize=9)
     ax.legend(fontsize=7)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
+    save_figure(fig, path, dpi=110, bbox_inches="tight")
     plt.close(fig)
 
 
@@ -108,7 +109,7 @@ def figure_4(dumps: dict[float, tuple[dict, dict]], path) -> pd.DataFrame:
         ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     return pd.DataFrame(rows)
 
@@ -134,6 +135,6 @@ def figure_5(path, P0_over_E: float, markers: dict[str, float] | None = None) ->
     ax.set_ylabel("V_F / V_P")
     ax.set_title(f"Fracture velocity, P0/E* = {P0_over_E:.4g} (ice, P0 = 130 MPa)", fontsize=9)
     ax.legend(fontsize=7)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
+    save_figure(fig, path, dpi=110, bbox_inches="tight")
     plt.close(fig)
     return pd.concat(curves, ignore_index=True)

@@ -69,8 +69,26 @@ rule run_engine:
     script: "../scripts/run_engine.py"
 
 
+from records.run_manifest import changed_dumps  # noqa: E402
+
+
+def dumps_changed_since_summary(wildcards):
+    """The dumps of the case's engine jobs that are no longer the ones their jobs wrote (each
+    `records.run_manifest.dump_problem`, naming the file), while the case has a summary; [] when
+    every dump is intact or there is no summary yet (the rule runs then anyway, and verifies every
+    dump). A param of case_summary: a dump truncated or edited by hand changes it, and Snakemake
+    reruns the summary on the next run (its params trigger), which refuses the dump by name and
+    withdraws the PASS, with no --forcerun. A dump edited in place leaves the folder's mtime, the
+    rule's input, as it was. Cost: one sha256 of every dump of the case per workflow start."""
+    if not Path(f"results/{wildcards.case}/summary.csv").exists():
+        return []
+    manifests = [f"results/{wildcards.case}/{b}/manifest.json" for b in BUILD_IDS]
+    return changed_dumps([m for m in manifests if Path(m).exists()])
+
+
 rule case_summary:
-    """The case's runs beside the reference solver and the paper's series (dumps verified)."""
+    """The case's runs beside the reference solver and the paper's series (dumps verified; a dump
+    changed since reruns it: dumps_changed_since_summary)."""
     input:
         plan="results/{case}/plan.json",
         manifests=expand("results/{{case}}/{build}/manifest.json", build=BUILD_IDS),
@@ -78,6 +96,7 @@ rule case_summary:
     output: "results/{case}/summary.csv"
     log: "logs/{case}/summary.log"
     benchmark: "logs/benchmarks/case_summary/{case}.tsv"
+    params: dumps_changed=dumps_changed_since_summary
     priority: CRITICAL_PATH
     resources: **cluster_resources(runtime=10, mem_mb=2000)
     script: "../scripts/case_summary.py"

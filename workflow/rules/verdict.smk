@@ -1,5 +1,14 @@
 # The verdicts: of the study (report, JUnit XML, gate) and of one case (its own gate).
 
+from postprocess.verdict_files import tolerance_warnings  # noqa: E402
+
+# A tolerance of 1 or more is refused by the config schema (config/config.schema.yaml, naming
+# tolerance.T); one above 1e-2 is allowed, and said here, in the checks' logs, verdict.json,
+# gate.txt and the reports.
+if not IS_JOB:
+    for _warning in tolerance_warnings(config["tolerance"]):
+        print(f"Warning: {_warning}", file=sys.stderr)
+
 
 rule summary:
     input: expand("results/{case}/summary.csv", case=CASES)
@@ -75,13 +84,18 @@ rule report:
 
 
 rule gate:
-    """The last step: gate.txt on PASS; on FAIL exits non-zero naming every failing check, once
-    the report that shows them is written."""
-    input: verdict="results/verdict.json", summary="results/summary.csv", report="results/report.md"
+    """The last step: gate.txt on PASS, stating its tolerances; on FAIL exits non-zero naming every
+    failing check, once the report that shows them is written. Before a PASS it checks every dump
+    against its manifest's sha256 (workflow/scripts/gate.py)."""
+    input:
+        verdict="results/verdict.json",
+        summary="results/summary.csv",
+        report="results/report.md",
+        manifests=expand("results/{case}/{build}/manifest.json", case=CASES, build=BUILD_IDS),
     output: "results/gate.txt"
     log: "logs/gate.log"
     benchmark: "logs/benchmarks/gate/all.tsv"
-    params: report="results/report.md"
+    params: report="results/report.md", rerun_engines="snakemake -j2 all --forcerun run_engine"
     script: "../scripts/gate.py"
 
 
@@ -110,9 +124,13 @@ rule case_verdict:
 
 
 rule case_gate:
-    input: verdict="results/{case}/verdict.json", summary="results/{case}/summary.csv"
+    """One case's gate.txt on PASS (as the study's gate, over the case's verdict and dumps)."""
+    input:
+        verdict="results/{case}/verdict.json",
+        summary="results/{case}/summary.csv",
+        manifests=expand("results/{{case}}/{build}/manifest.json", build=BUILD_IDS),
     output: "results/{case}/gate.txt"
     log: "logs/{case}/gate.log"
     benchmark: "logs/benchmarks/case_gate/{case}.tsv"
-    params: report="results/{case}/report.md"
+    params: report="results/{case}/report.md", rerun_engines=lambda w: f"snakemake -j2 {w.case} --forcerun run_engine"
     script: "../scripts/gate.py"

@@ -3,6 +3,11 @@
 The same checks as the study's (postprocess.gate), over this case's plan, summary and manifests,
 and the study's report (postprocess.report) of this case alone: results/<case>/report.md, .html
 and plots/. It changes no result of the study's.
+
+Its first act is to withdraw the case's PASS stamp (results/<case>/gate.txt): Snakemake removed
+this rule's own outputs before it started, and the stamp, the case gate's output, must not stand
+beside no verdict, nor survive this rule's failure (a full disk, a read-only plots folder). The
+files are written by `postprocess.gate.write_verdict_files`, verdict.json last.
 """
 
 import json
@@ -13,13 +18,17 @@ import pandas as pd
 from common import log_to
 from contact_model import Body, ContactPair
 from engines.codes import CODES
-from postprocess.gate import gate_checks, verdict_of, write_junit, write_verdict
+from postprocess.gate import gate_checks, verdict_of, write_verdict_files
 from postprocess.report import ReportInputs, write_report
 from postprocess.report_timestep import case_error_maps
+from postprocess.verdict_files import withdraw_gate
 from records.files import file_sha256
 from records.run_manifest import read_manifest
 
 log = log_to(snakemake.log[0])
+folder = Path(snakemake.output.md).parent
+if withdraw_gate(folder):
+    log.info("withdrew %s: the case's verdict is being made anew", folder / "gate.txt")
 tolerance = snakemake.params.tolerance
 plan = json.load(open(snakemake.input.plan))
 manifests = [read_manifest(m) for m in snakemake.input.manifests]
@@ -29,23 +38,28 @@ table = pd.read_csv(snakemake.input.summary)
 checks = gate_checks(table, pd.DataFrame([{"case": plan["case"], **r} for r in plan["runs"]]), pd.DataFrame(failed),
                      tolerance)
 verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
-checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
-write_junit(checks, snakemake.output.junit)
+for warning in verdict["warnings"]:
+    log.warning("%s", warning)
 builds = list(snakemake.params.builds)
-# The case's time-step section: its laws' errors against dt / T_R (postprocess.report_timestep).
-pairs = {g: ContactPair(g, Body(**p["body_1"]), Body(**p["body_2"]), p["E"], p["eta"])
-         for g, p in plan["pairs"].items()}
-(Path(snakemake.output.md).parent / "plots").mkdir(parents=True, exist_ok=True)
-_, timestep = case_error_maps(plan, pairs, Path(snakemake.output.md).parent / "plots" / "timestep.png")
 code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b in snakemake.params.builds.values())}
-write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
-                          not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
-                          plan_notes=plan.get("notes", []), timestep=timestep,
-                          code_notes=code_notes, ladder=snakemake.params.ladder,
-                          reference=pd.read_csv(snakemake.input.reference),
-                          title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",
-                          folder=Path(snakemake.output.md).parent.as_posix()),
-             Path(snakemake.output.md).parent)
-write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
-log.info("%s: verdict %s (%d checks, %d failing)", plan["case"], verdict["verdict"], verdict["checked"],
-         verdict["failed"])
+
+
+def report():
+    """The case's report, its time-step section (its laws' errors against dt / T_R,
+    postprocess.report_timestep) first."""
+    pairs = {g: ContactPair(g, Body(**p["body_1"]), Body(**p["body_2"]), p["E"], p["eta"])
+             for g, p in plan["pairs"].items()}
+    (folder / "plots").mkdir(parents=True, exist_ok=True)
+    _, timestep = case_error_maps(plan, pairs, folder / "plots" / "timestep.png")
+    write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
+                              not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
+                              plan_notes=plan.get("notes", []), timestep=timestep,
+                              code_notes=code_notes, ladder=snakemake.params.ladder,
+                              reference=pd.read_csv(snakemake.input.reference),
+                              title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",
+                              folder=folder.as_posix()), folder)
+
+
+write_verdict_files(checks, verdict, snakemake.output, report=report)
+log.info("%s: verdict %s (%d checks, %d failing; tolerance %s)", plan["case"], verdict["verdict"], verdict["checked"],
+         verdict["failed"], verdict["tolerance"])

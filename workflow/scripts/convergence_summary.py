@@ -15,6 +15,7 @@ from common import start_rule  # noqa: E402
 from contact_model import load_case  # noqa: E402
 from postprocess.comparison import comparison_rows  # noqa: E402
 from postprocess.convergence import build_spread, convergence_table, largest_dt_table  # noqa: E402
+from records.files import save_figure  # noqa: E402
 from records.run_manifest import manifest_dumps  # noqa: E402
 
 log = start_rule(snakemake)
@@ -76,5 +77,5 @@ fig.legend(handles=handles, loc="upper center", ncol=min(len(handles), 7), fonts
 # Margins in inches, not tight_layout (it measured every tick label of the panels: seconds).
 height = fig.get_figheight()
 fig.subplots_adjust(left=0.05, right=0.99, bottom=0.55 / height, top=1 - 1.25 / height, wspace=0.2, hspace=0.55)
-fig.savefig(snakemake.output.plot, dpi=100)
+save_figure(fig, snakemake.output.plot, dpi=100)
 log.info("%d error rows; largest dt:\n%s", len(errors), largest.to_string())

@@ -8,9 +8,9 @@ import pandas as pd
 from common import log_to
 from contact_model.measurement_file import load_measurements
 from contact_model.keywords import KEYWORDS
-from postprocess.keyword_promise import plot_promise, promise_over_velocity, promise_summary
+from postprocess.keyword_promise import over_velocity_cell, plot_promise, promise_over_velocity, promise_summary
 from postprocess.restitution_of_velocity import FOLLOWS_R2, fit_forms, plot_forms
-from records.files import write_atomically
+from records.files import save_figure, write_atomically
 
 log = log_to(snakemake.log[0])
 table = pd.concat([pd.read_csv(p) for p in snakemake.input.rows], ignore_index=True)
@@ -29,13 +29,17 @@ over_v = promise_over_velocity([KEYWORDS[k] for k in dict.fromkeys(table.keyword
                                sorted({float(e) for e in table.e_requested}))
 over_v.to_csv(snakemake.output.over_velocity, index=False, float_format="%.12g")
 for name, g in over_v.groupby("keyword", sort=False):
-    grid = g.pivot(index="e_requested", columns="V_over_vn", values="eps_own_equation")
+    # a K beyond the reference solver's range is a cell that says so, not a crash of the target
+    cells = g.assign(cell=[over_velocity_cell(e, n) for e, n in zip(g.eps_own_equation, g.note)])
+    grid = cells.pivot(index="e_requested", columns="V_over_vn", values="cell")
     grid.columns = [f"V = {c:g} vn" for c in grid.columns]
+    grid.index = [f"{e:g}" for e in grid.index]
     lines += [f"## {KEYWORDS[name].written}: away from the velocity it is told", "",
               "Its force is Brilliantov's, so its restitution falls with V as the viscoelastic law's: told e at vn, "
               "it restitutes (its own equation, which its engines meet at V = vn; `promise_over_velocity.csv`):", "",
-              grid.reset_index().rename(columns={"e_requested": "told e"}).to_markdown(index=False, floatfmt=".5f"),
-              ""]
+              grid.rename_axis("told e").reset_index().to_markdown(index=False, disable_numparse=True), ""]
+    for note in dict.fromkeys(n for n in g.note if n):
+        log.warning("%s: %s", KEYWORDS[name].written, note)
 if len(problems):
     lines += ["Not run (the code refuses that e) or failed:", "", *(f"- {r.build} e = {r.e_requested:g}: {r.problem}"
                                          for r in problems.itertuples()), ""]
@@ -70,6 +74,6 @@ else:  # nothing to fit: an empty table, and a figure that says so
 
     fig = plt.figure(figsize=(6, 2))
     fig.text(0.5, 0.5, "no measurements (config keywords.measured: null)", ha="center")
-    fig.savefig(snakemake.output.forms_png)
+    save_figure(fig, snakemake.output.forms_png)
 write_atomically(snakemake.output.md, "\n".join(lines))
 log.info("promise table: %d rows, %d builds", len(table), table.build.nunique())

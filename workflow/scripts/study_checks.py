@@ -2,6 +2,8 @@
 
 The checks are decided in `postprocess.gate` from the plans (what should exist), the summary
 (what landed) and the manifests (what failed); the report rule shows them, FAIL at the top.
+start_rule first marks the study's verdict stale (its gate.txt goes); the files are written by
+`postprocess.gate.write_verdict_files`, verdict.json last.
 """
 
 import json
@@ -9,7 +11,7 @@ import json
 import pandas as pd
 
 from common import start_rule
-from postprocess.gate import gate_checks, regression_checks, verdict_of, write_junit, write_verdict
+from postprocess.gate import gate_checks, regression_checks, verdict_of, write_verdict_files
 from records.files import file_sha256
 from records.run_manifest import read_manifest
 
@@ -26,9 +28,10 @@ if "regressions" in snakemake.input.keys():  # the engines' known defects: repor
     checks = pd.concat([checks, regression_checks(pd.read_csv(snakemake.input.regressions), tolerance)],
                        ignore_index=True)
 verdict = verdict_of(checks, file_sha256(snakemake.input.summary), tolerance)
-checks.to_csv(snakemake.output.checks, index=False, float_format="%.12g")
-write_junit(checks, snakemake.output.junit)
-write_verdict(verdict, snakemake.output.verdict)  # last: its presence means the rest is written
-log.info("verdict: %s (%d checks, %d failing)", verdict["verdict"], verdict["checked"], verdict["failed"])
+write_verdict_files(checks, verdict, snakemake.output)
+log.info("verdict: %s (%d checks, %d failing; tolerance %s)", verdict["verdict"], verdict["checked"],
+         verdict["failed"], verdict["tolerance"])
+for warning in verdict["warnings"]:
+    log.warning("%s", warning)
 for failure in verdict["failures"]:
     log.warning("FAIL %s", failure)
