@@ -13,8 +13,13 @@ Beside it, the paper's method: the same data fitted with the paper's second-orde
 eps = 1 - 1.0089 K + 0.6107 K^2 (on its falling branch, K < 0.826), and the bias this causes in
 eta against the exact x0 fit.
 
-And three checks of the model on the data:
+And checks of the model on the data:
 
+- ``restitution_trend``: a straight line through the measured eps against ln V. The viscoelastic
+  model's eps falls monotonically with V (K grows as V^{1/5}); where the data's slope is positive
+  at one-sided p < RISING_P (Student's t, n - 2 degrees of freedom, the scale from the stated
+  uncertainties widened by the scatter, or from the scatter alone), the data contradict the model:
+  ``warnings`` says so, and the eta of the fit is flagged as not to be used.
 - ``residual_trend``: a straight line through the x0 residuals against ln V; its slope is 0 (within
   its standard error) when the model's V-dependence is the data's.
 - ``constant_loss``: the exact model with a velocity-independent loss added,
@@ -41,12 +46,18 @@ from contact_model.quantities import POISE, in_unit
 from engines.codes import CODES
 from reference.restitution_closed_forms import paper_series
 
-from .fit import CRITERIA, K_MAX, Fit, exact_restitution, f_survival, falling_range, fit_restitution
+from contact_model.measurement_file import MIN_ROWS, MIN_VELOCITIES, distinct_velocities
+
+from .fit import (CRITERIA, K_MAX, CalibrationError, Fit, exact_restitution, f_survival, falling_range,
+                  fit_restitution, student_t_survival)
 
 #: The codes whose parameters of the calibrated contact are reported: those that run the
 #: viscoelastic law (engines.codes; ESyS clips it, Kratos cannot express it).
 ENGINES = tuple(name for name, c in CODES.items() if "viscoelastic" not in c.unavailable)
 BETAS = (0.01, 0.05)
+#: One-sided p value below which a rise of the measured eps with V counts as significant: the
+#: viscoelastic model cannot produce it (its eps falls with V), and the calibration warns.
+RISING_P = 0.01
 
 
 def calibrated_pair(pair: ContactPair, eta: float) -> ContactPair:
@@ -67,6 +78,44 @@ def linear_fit(x, y) -> dict:
             "b_se": float(math.sqrt(cov[1, 1])), "rms": float(math.sqrt(np.mean(resid**2))), "dof": dof}
 
 
+def restitution_trend(velocity, restitution, sigma=None) -> dict:
+    """A straight line eps = a + b ln V through the measured restitution, and whether it rises.
+
+    Parameters
+    ----------
+    velocity : impact velocities V [m/s], at least 2 distinct and 3 in all.
+    restitution : measured eps [-].
+    sigma : standard uncertainty of each eps [-], or None (the scatter gives the scale).
+
+    Returns
+    -------
+    dict
+        b (the slope d eps / d ln V [-]) and its standard error b_se, t = b / b_se, dof = n - 2,
+        p_rising (one-sided p value of b > 0, Student's t with dof), rising (p_rising < RISING_P).
+        The standard error comes from the stated sigma widened by the line's scatter where it is
+        larger (chi2_red > 1), or from the scatter alone without sigma: a rise is claimed only
+        where the data carry it.
+    """
+    x = np.log(np.asarray(velocity, dtype=float))
+    y = np.asarray(restitution, dtype=float)
+    w = np.ones(len(x)) if sigma is None else 1.0 / np.asarray(sigma, dtype=float)
+    A = np.column_stack([np.ones_like(x), x]) * w[:, None]
+    dof = len(y) - 2
+    if dof < 1 or np.ptp(x) == 0:
+        raise ValueError(f"a trend needs {MIN_ROWS} rows at {MIN_VELOCITIES} distinct velocities, got {len(y)} rows "
+                         f"at {len(set(x.tolist()))}")
+    coef, *_ = np.linalg.lstsq(A, y * w, rcond=None)
+    resid = y * w - A @ coef
+    chi2_red = float(resid @ resid) / dof
+    scale = chi2_red if sigma is None else max(1.0, chi2_red)
+    b_se = float(math.sqrt(scale * np.linalg.inv(A.T @ A)[1, 1]))
+    b = float(coef[1])
+    t = b / b_se if b_se > 0 else (math.inf if b > 0 else -math.inf if b < 0 else 0.0)
+    p = float(student_t_survival(t, dof))
+    return {"b": b, "b_se": b_se, "t_statistic": t, "dof": dof, "p_rising": p, "rising": bool(p < RISING_P),
+            "p_limit": RISING_P}
+
+
 def constant_loss_test(velocity, restitution, sigma, fit: Fit) -> dict:
     """Fit eps = (1 - xi_0)^{1/2} eps_x0(k (V/V_max)^{1/5}) for (k, xi_0) and F-test xi_0 = 0.
 
@@ -74,6 +123,8 @@ def constant_loss_test(velocity, restitution, sigma, fit: Fit) -> dict:
     p from F(1, n - 2). Returns xi_0 (with its standard error from the Jacobian), k, F, p."""
     V = np.asarray(velocity, dtype=float)
     eps = np.asarray(restitution, dtype=float)
+    if len(V) < MIN_ROWS:
+        raise ValueError(f"the constant-loss test fits 2 parameters: it needs {MIN_ROWS} rows, got {len(V)}")
     w = np.ones(len(V)) if sigma is None else 1.0 / np.asarray(sigma, dtype=float)
     x = (V / V.max()) ** 0.2
     model = exact_restitution("x0")
@@ -138,8 +189,18 @@ def calibrate(case: Case, modulus_factors=(0.8, 1.25)) -> tuple[dict, dict[str, 
     """Calibrate the viscosity of `case` on its measurements (see the module docstring).
 
     Returns (summary, fits): a JSON-ready summary and the `Fit`s by name ('x0', 'F0', 'series').
-    Raises `CalibrationError` (a `CaseError`) when the data cannot be fitted."""
+    ``summary["warnings"]`` lists what makes its eta unfit to use (the data contradict the model).
+    Raises `CalibrationError` (a `CaseError`) when the data cannot be fitted: fewer than MIN_ROWS
+    rows or MIN_VELOCITIES distinct velocities (the loader refuses them first), or a best fit at
+    K = 0 or K_max."""
     m = case.measurements
+    if m is None:
+        raise ValueError(f"{case.path}: the case has no measurements")
+    if len(m) < MIN_ROWS or distinct_velocities(m.velocity) < MIN_VELOCITIES:
+        raise CalibrationError(m.path, "(file)", f"has {len(m)} rows at {distinct_velocities(m.velocity)} distinct "
+                                                 f"velocities; the calibration needs at least {MIN_ROWS} rows at "
+                                                 f"{MIN_VELOCITIES} or more velocities (1 parameter for eta, 2 for "
+                                                 "its model checks, each with a degree of freedom for the scatter)")
     pair = case.pairs[0]
     fits = case_fits(case)
     summary = {
@@ -166,4 +227,14 @@ def calibrate(case: Case, modulus_factors=(0.8, 1.25)) -> tuple[dict, dict[str, 
     r = fits["x0"].residuals
     trend = linear_fit(np.log(m.velocity), r)
     summary["residual_trend"] = {**trend, "t_statistic": trend["b"] / trend["b_se"] if trend["b_se"] > 0 else math.nan}
+    rise = summary["restitution_trend"] = restitution_trend(m.velocity, m.restitution, m.uncertainty)
+    summary["warnings"] = []
+    if rise["rising"]:
+        summary["warnings"].append(
+            f"the measured eps rises with the impact velocity (slope {rise['b']:+.3g} ± {rise['b_se']:.2g} per unit "
+            f"of ln V, t = {rise['t_statistic']:.1f}, one-sided p = {rise['p_rising']:.2g} < {RISING_P:g}), which the "
+            "viscoelastic model cannot produce: its eps falls monotonically with V. The fitted eta is the "
+            "least-squares compromise of a model that does not describe these data, not a property of the contact: "
+            "do not use it. Check the data (velocity and rebound swapped? another loss at low speed, adhesion or "
+            "plasticity?)")
     return summary, fits

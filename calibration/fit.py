@@ -94,6 +94,11 @@ def student_t_quantile(p: float, dof: int) -> float:
     return special.stdtrit(dof, p)
 
 
+def student_t_survival(t: float, dof: int) -> float:
+    """P(X > t) for X ~ Student's t with `dof` degrees of freedom (scipy.stats.t.sf)."""
+    return special.stdtr(dof, -t)
+
+
 def chi2_quantile(p: float, dof: int) -> float:
     """chi2_dof(p) = 2 P^{-1}(dof/2, p), P the regularised lower incomplete gamma function
     (scipy.stats.chi2.ppf)."""

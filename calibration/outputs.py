@@ -1,12 +1,17 @@
 """The calibration's files (results/calibration/): tables, plots, DEM runs and the report.
 
 I/O at the edge: the numbers come from `calibration.case_calibration` and `calibration.fit`.
+Text that comes from the user's files (the case's name, the measurement file's path and
+provenance) is data: escaped where it enters Markdown (`as_text`) or a plot title (`as_title`), so
+that it can neither add report lines nor markup nor break the plot.
 """
 
 from __future__ import annotations
 
+import html
 import json
 import math
+import re
 from pathlib import Path
 
 import matplotlib
@@ -24,6 +29,21 @@ from records.files import save_figure  # noqa: E402
 
 from .fit import WARN_CHI2_RED, Fit, exact_restitution  # noqa: E402
 from .loop import LOOP_LAW  # noqa: E402
+
+
+def as_text(text: str, limit: int = 200) -> str:
+    """`text` from a user's file as one line of plain Markdown text: control characters and line
+    breaks as spaces, HTML's <, > and & as entities, Markdown's code, link, image and table marks
+    escaped (an underscore inside a word is literal Markdown: names keep theirs), cut to `limit`
+    characters."""
+    line = " ".join(re.sub(r"[\x00-\x1f\x7f-\x9f]", " ", str(text)).split())
+    line = line if len(line) <= limit else line[:limit] + "..."
+    return re.sub(r"([\\`*\[\]!|#])", r"\\\1", html.escape(line, quote=False))
+
+
+def as_title(text: str) -> str:
+    """`text` from a user's file in a matplotlib title: '$' escaped (no mathtext to parse), one line."""
+    return " ".join(str(text).split())[:100].replace("$", r"\$")
 
 
 def residual_table(case: Case, fits: dict[str, Fit]) -> pd.DataFrame:
@@ -77,7 +97,7 @@ def plot_fit(case: Case, fits: dict[str, Fit], path, loop: pd.DataFrame | None =
     axr.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     axr.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # log minor labels overlap
     ax.set_ylabel("restitution coefficient eps")
-    ax.set_title(f"{case.name}: eps(V), fits of eta")
+    ax.set_title(f"{as_title(case.name)}: eps(V), fits of eta")
     ax.legend(fontsize=8, loc="lower left")  # the data fall from upper left to lower right
     axr.axhline(0, color="grey", lw=0.5)
     axr.set_xlabel("impact velocity V [m/s]")
@@ -140,8 +160,13 @@ def answer_lines(summary: dict) -> list[str]:
     """The answer first: one line per criterion with eta in Pa·s and P (and in the unit the case
     file writes its viscosity in, where that is another), its 95 % interval, how the interval was
     made and chi²_red; then a warning where the stated uncertainties understate the scatter
-    (chi²_red > WARN_CHI2_RED), and where the fitted constant loss is unphysical."""
+    (chi²_red > WARN_CHI2_RED), and where the fitted constant loss is unphysical. Where the data
+    contradict the model (``summary["warnings"]``: eps rises with V) each line says "do not use"
+    instead of "use", and the warnings follow."""
     lines = []
+    contradicted = bool(summary.get("warnings"))
+    verb = "do not use" if contradicted else "use"
+    case = as_text(summary["case"])
     for criterion in CRITERIA:
         f = summary["fits"][criterion]
         low, high = f["eta_interval_Pa_s"]
@@ -154,7 +179,7 @@ def answer_lines(summary: dict) -> list[str]:
                  "the stated uncertainties widened to the scatter (chi²_red > 1)" if f.get("widened") else
                  "from the stated uncertainties")
         eta = f["eta_Pa_s"]
-        lines.append(f"- **{summary['case']}, {criterion}: use eta = {eta:.4g} Pa·s ({eta / POISE:.4g} P{own_eta})**, "
+        lines.append(f"- **{case}, {criterion}: {verb} eta = {eta:.4g} Pa·s ({eta / POISE:.4g} P{own_eta})**, "
                      f"95 % interval {low:.4g}–{high:.4g} Pa·s ({low / POISE:.4g}–{high / POISE:.4g} P{own_interval}; "
                      f"{basis}"
                      f"{'; open at the ' + ' and '.join(opened) + ' end' if opened else ''}), "
@@ -169,6 +194,7 @@ def answer_lines(summary: dict) -> list[str]:
         lines.append(f"  - Warning: the fitted velocity-independent loss xi_0 = {xi:.3g} is unphysical (a loss "
                      f"{'below 0 gives energy back' if xi < 0 else 'of 1 or more leaves no rebound'}): that extended "
                      "model does not describe these data; its test below says nothing about them.")
+    lines += [f"  - Warning: {w}." for w in summary.get("warnings", [])]
     return lines
 
 
@@ -176,11 +202,11 @@ def case_section(summary: dict, residuals: pd.DataFrame, loop: pd.DataFrame | No
     """The report's section of one calibrated case: its answer first (`answer_lines`), then how."""
     s, fx, ff, fs = summary, summary["fits"]["x0"], summary["fits"]["F0"], summary["fits"]["series"]
     sig = "given per row" if fx["sigma_given"] else f"not given; estimated from the scatter, sigma = {fx['sigma']:.2g}"
-    lines = [f"## {s['case']}", "", *answer_lines(s), "",
-             f"Data: `{s['measurements']}` ({fx['n']} points, "
+    lines = [f"## {as_text(s['case'])}", "", *answer_lines(s), "",
+             f"Data: {as_text(s['measurements'])} ({fx['n']} points, "
              f"V = {s['velocity_range'][0]:g}–{s['velocity_range'][1]:g} m/s; "
              f"uncertainty {sig}). Provenance: "
-             f"{s['provenance'].splitlines()[0] if s['provenance'] else '(none given)'}",
+             f"{as_text(s['provenance'].splitlines()[0]) if s['provenance'] else '(none given)'}",
              "",
              f"Bodies ({s['geometry']}): E* = {s['E_Pa']:.4g} Pa, R* = {s['R_m']:.6g} m, M* = {s['M_kg']:.6g} kg.", "",
              "| fit | K(V_max) [95 %] | V_D [m/s] [95 %] | eta [P] [95 %] | K range | chi²_red / rms residual "

@@ -14,10 +14,16 @@ study's K grid (config/config.yaml) applies.
 
 An optional ``measurements`` key names a CSV file of measured restitution coefficients
 (`contact_model.measurement_file`), its path relative to the folder of the case file (so that a
-case and its data move together and the path does not depend on the working directory). The file
-is read and checked when the case is loaded. A case with measurements describes exactly one
-contact (one geometry, or explicit bodies): the data belong to one pair. For such a case
-``viscosity`` is the starting value only; the calibration fits it.
+case and its data move together and the path does not depend on the working directory). The path
+is data, not a licence to read: it must lead, symlinks followed, to a regular file inside the
+project folder (`project_folder`), else it is refused unread. The file is read and checked when
+the case is loaded. A case with measurements describes exactly one contact (one geometry, or
+explicit bodies): the data belong to one pair. For such a case ``viscosity`` is the starting value
+only; the calibration fits it.
+
+``impact: {restitution: [...], velocity: [...]}`` replaces ``viscosity``: every restitution runs
+at every impact velocity, each run with the eta that restitutes it exactly there
+(`restitution_variants`), as an engine's restitution keyword restitutes it at every velocity.
 
 The file is read strictly, so that it cannot say one thing and run another:
 
@@ -31,13 +37,16 @@ The file is read strictly, so that it cannot say one thing and run another:
 - the YAML is plain data: duplicated keys, anchors and aliases, explicit tags, YAML 1.1 number
   and boolean spellings (0.3_0, 010, 1:30, yes) and deep nesting are errors.
 
-Every error is a `CaseError` naming the file and the field.
+Every error is a `CaseError` naming the file and the field. A message repeats a value of the
+file only escaped and cut short (`quantities.shown`), and never the text of a file that is not a
+case file.
 """
 
 from __future__ import annotations
 
 import difflib
 import math
+import os
 import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -45,7 +54,7 @@ from pathlib import Path
 import yaml
 
 from .contact_pair import GEOMETRIES, Body, ContactPair
-from .quantities import CaseError, not_a_quantity, quantity, written_unit
+from .quantities import CaseError, field_text, not_a_quantity, quantity, shown, written_unit
 from .strict_yaml import PLAIN_FLOAT, join_field, read_utf8, scan_plain_yaml
 
 #: What `impact.velocity` means, said wherever a velocity is refused: Chung & Ooi's test 1, written
@@ -57,6 +66,16 @@ VELOCITY_MEANING = ("`velocity` is the relative normal velocity of the two bodie
 
 
 SCHEMA_PATH = Path(__file__).with_name("case_file.schema.yaml")
+#: The repository this package belongs to: the project folder of a case file that lies in no
+#: folder of the study (`project_folder`).
+REPOSITORY_ROOT = Path(__file__).resolve().parents[1]
+#: The largest restitution a case may ask for. Above it (1 - eps < 1e-8) the K, hence the eta, that
+#: restitutes eps is below 1e-8: the inversion (`reference.dissipation_for_restitution`, Brent's
+#: method to 1e-14 in K) resolves it to no better than 1e-6 relative, the study's tolerance, at the
+#: limit, and to nothing at all near 1 - 1.1e-16 (the last double below 1, where it gives K = 0, an
+#: elastic contact); and the ladders, which resolve eps to 1e-8 at best, could not tell such a
+#: run from an elastic one.
+RESTITUTION_MAX = 0.99999999
 
 @dataclass(frozen=True)
 class Case:
@@ -72,11 +91,14 @@ class Case:
     measurements: object = None  # a measurement_file.Measurements, or None
     #: The unit `viscosity:` is written in ('P', 'mPa*s'): the calibration answers in it too.
     viscosity_unit: str = "Pa*s"
-    #: `impact: restitution`: the restitution coefficients to run at the first impact velocity,
-    #: and the end of contact they refer to ('F0' or 'x0'). The pairs' eta restitutes the first;
-    #: `restitution_variants` gives one case per restitution.
+    #: `impact: restitution`: the restitution coefficients to run at every impact velocity, and
+    #: the end of contact they refer to ('F0' or 'x0'). The pairs' eta restitutes the first at the
+    #: first velocity; `restitution_variants` gives one case per restitution and velocity.
     restitutions: tuple[float, ...] = ()
     restitution_criterion: str = "F0"
+    #: The K that restitutes each of `restitutions` under the criterion (independent of the bodies
+    #: and the velocity: eta follows from it per contact and velocity).
+    restitution_dissipations: tuple[float, ...] = ()
 
     def pair(self, geometry: str) -> ContactPair:
         for p in self.pairs:
@@ -95,13 +117,13 @@ class Case:
 def _positive(value, name, path) -> float:
     x = quantity(value, name, path)
     if not (x > 0 and math.isfinite(x)):
-        raise CaseError(path, name, f"must be positive and finite, got {value!r}")
+        raise CaseError(path, name, f"must be positive and finite, got {shown(value)}")
     return x
 
 
 def _poisson(value, name, path) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise CaseError(path, name, f"must be a number (dimensionless), got {value!r}")
+        raise CaseError(path, name, f"must be a number (dimensionless), got {shown(value)}")
     if not -1.0 < value < 0.5:  # also refuses nan
         raise CaseError(path, name, f"Poisson's ratio must lie in (-1, 0.5), got {value}")
     return float(value)
@@ -150,23 +172,39 @@ def _schema_problem(err, data) -> tuple[str, str]:
         patterns = list(schema.get("patternProperties", {}))
         extra = sorted(str(k) for k in instance if k not in known and not any(re.search(p, str(k)) for p in patterns))
         docs = "description, note, <field>_source, <field>_note" if not where else "note, <field>_source, <field>_note"
-        close = difflib.get_close_matches(extra[0], list(known), n=1, cutoff=0.7)
+        close = difflib.get_close_matches(extra[0][:100], list(known), n=1, cutoff=0.7)
         guess = f"did you mean '{close[0]}'? " if close else "a typo? "
-        return (_field(where + [extra[0]]),
+        return (_field(where + [field_text(extra[0])]),
                 f"unknown field ({guess}known here: {', '.join(known)}; documentation: {docs})")
     if schema.get("x-parent"):  # an item error better said about its list
         where, instance = where[:-1], data
         for part in where:
             instance = instance[part]
     if err.validator in messages:
-        problem = messages[err.validator].replace("{instance!r}", repr(instance))
+        problem = messages[err.validator].replace("{instance!r}", shown(instance))
     elif schema.get("x-kind") == "quantity" and err.validator == "type":
         return _field(where), not_a_quantity(instance, _field(where))
     else:
-        problem = err.message
+        problem = err.message if len(err.message) <= 300 else err.message[:300] + "... (cut)"  # it may hold a value
     if err.validator == "type" and isinstance(instance, str) and PLAIN_FLOAT.fullmatch(instance.strip()):
-        problem += f" (YAML 1.1 reads {instance!r} as text: write the exponent with a dot and a sign, e.g. 1.0e-1)"
+        problem += number_as_text_hint(instance)
     return _field(where), problem
+
+
+def number_as_text_hint(text: str) -> str:
+    """Why a number in a case file arrived as text, and how to write it, for a `text` that is one
+    plain number: quoted ('0.8', "1"), or an exponent that YAML 1.1 reads as text (1e-1, 1.5E3)."""
+    number = text.strip()
+    if isinstance(yaml.safe_load(number), (int, float)):  # YAML reads it unquoted as a number: it was quoted
+        return f" ({shown(text)} is in quotes, so it is text, not a number: write it without quotes, {number})"
+    if not re.search("[eE]", number):  # '+.5': YAML 1.1 wants a digit before the dot after a sign
+        return f" (YAML 1.1 reads {number} as text, not a number: write it as {float(number)!r})"
+    mantissa, exponent = re.split("[eE]", number)
+    mantissa += "" if "." in mantissa else ".0"
+    exponent = exponent if exponent[:1] in "+-" else "+" + exponent
+    e = "E" if "E" in number else "e"
+    return (f" (YAML 1.1 reads {number} as text, not a number: write its mantissa with a dot and its exponent "
+            f"with a sign, {mantissa}{e}{exponent})")
 
 
 def _check_schema(data, path) -> None:
@@ -202,7 +240,7 @@ def _impact(data: dict, path) -> tuple[tuple[float, ...], tuple[float, ...]]:
         ks = []
         for i, k in enumerate(impact["K"]):
             if isinstance(k, bool) or not isinstance(k, (int, float)) or not 0 < k <= 10:
-                raise CaseError(path, f"impact.K[{i}]", f"must be a number in (0, 10], got {k!r}")
+                raise CaseError(path, f"impact.K[{i}]", f"must be a number in (0, 10], got {shown(k)}")
             if float(k) in ks:
                 raise CaseError(path, f"impact.K[{i}]", f"gives K = {k} a second time (impact.K[{ks.index(float(k))}])")
             ks.append(float(k))
@@ -213,7 +251,7 @@ def _impact(data: dict, path) -> tuple[tuple[float, ...], tuple[float, ...]]:
         for j, y in enumerate(vs):
             if math.isclose(x, y, rel_tol=1e-12):
                 raise CaseError(path, f"impact.velocity[{i}]",
-                                f"{v!r} is the velocity of impact.velocity[{j}] again ({y:g} m/s)")
+                                f"{shown(v)} is the velocity of impact.velocity[{j}] again ({y:g} m/s)")
         vs.append(x)
     return (), tuple(vs)
 
@@ -231,11 +269,32 @@ def _check_finite(pair: ContactPair, fields: dict, path) -> None:
                                                   "beyond double precision")
 
 
-def parse_case(data, path) -> Case:
-    """Validate the parsed YAML `data` of case file `path` (used in messages)."""
+def _what_it_holds(data) -> str:
+    """What a YAML document that is not a mapping holds, without repeating its text (it may be any
+    file given as a case file: /etc/passwd reads as one long string)."""
+    if data is None:
+        return "nothing (an empty file)"
+    if isinstance(data, str):
+        return f"one text of {len(data)} characters (not shown)"
+    if isinstance(data, list):
+        return f"a list of {len(data)} items"
+    return f"a single {type(data).__name__} ({shown(data)})"
+
+
+def parse_case(data, path, project=None) -> Case:
+    """Validate the parsed YAML `data` of case file `path` (used in messages).
+
+    Parameters
+    ----------
+    data : the YAML document, as `yaml.safe_load` gives it.
+    path : the case file (str or Path): named in every message; its folder is where a
+        `measurements:` path starts.
+    project : the folder a measurement file must lie in (symlinks followed); default
+        `project_folder(path)`.
+    """
     if not isinstance(data, dict):
-        got = "nothing (an empty file)" if data is None else f"a {type(data).__name__}: {data!r:.60}"
-        raise CaseError(path, "(top level)", f"a case file must be a YAML mapping of fields, got {got}")
+        raise CaseError(path, "(top level)", f"a case file must be a YAML mapping of fields, got "
+                                             f"{_what_it_holds(data)}")
     impact = data.get("impact")
     if isinstance(impact, dict) and "restitution" in impact and "velocity" not in impact:
         _restitution(data, path)  # refuses it naming impact.restitution, before the schema's 'K or velocity'
@@ -251,7 +310,7 @@ def parse_case(data, path) -> Case:
                                            "which sets it)")
     eta = quantity(data["viscosity"], "viscosity", path) if not restitutions else 0.0  # set below
     if not (eta >= 0 and math.isfinite(eta)):
-        raise CaseError(path, "viscosity", f"must be non-negative, got {data['viscosity']!r}")
+        raise CaseError(path, "viscosity", f"must be non-negative, got {shown(data['viscosity'])}")
 
     if "bodies" in data:
         bodies = data["bodies"]
@@ -272,18 +331,21 @@ def parse_case(data, path) -> Case:
     K, velocities = _impact(data, path)
     if K and eta == 0:
         raise CaseError(path, "impact.K", "a target K needs a positive viscosity")
-    if restitutions:  # the eta that restitutes the first restitution at the first velocity, per contact
-        pairs = tuple(replace(p, eta=_viscosity_for_restitution(p, velocities[0], restitutions[0], criterion, 0,
-                                                                path)) for p in pairs)
-        for i, r in enumerate(restitutions[1:], start=1):
-            _viscosity_for_restitution(pairs[0], velocities[0], r, criterion, i, path)  # reachable?
-    measurements = _measurements(data, pairs, path)
+    dissipations = ()
+    if restitutions:  # the K of each (reachable?), and the eta of each at each velocity (finite?)
+        dissipations = tuple(_dissipation_for_restitution(r, criterion, i, path) for i, r in enumerate(restitutions))
+        for i, K_r in enumerate(dissipations):
+            for V in velocities:
+                for p in pairs:
+                    _viscosity(p, V, K_r, i, path)
+        pairs = tuple(replace(p, eta=_viscosity(p, velocities[0], dissipations[0], 0, path)) for p in pairs)
+    measurements = _measurements(data, pairs, path, project)
     known = {"name", "description", "viscosity", "bodies", "effective_modulus", "radius",
              "density", "geometries", "impact", "measurements"}
     extra = {k: v for k, v in data.items() if k not in known}  # the documentation keys
     return Case(str(name), str(path), pairs, K, velocities, str(data.get("description", "")), extra,
                 measurements, viscosity_unit=written_unit(data["viscosity"]) if "viscosity" in data else "Pa*s",
-                restitutions=restitutions, restitution_criterion=criterion)
+                restitutions=restitutions, restitution_criterion=criterion, restitution_dissipations=dissipations)
 
 
 def _restitution(data: dict, path) -> tuple[tuple[float, ...], str]:
@@ -297,37 +359,84 @@ def _restitution(data: dict, path) -> tuple[tuple[float, ...], str]:
     if "velocity" not in impact:
         raise CaseError(path, "impact.restitution", "needs the impact velocity it holds at: add `velocity: [...]` "
                                                     f"beside it ({VELOCITY_MEANING}), not K")
-    return tuple(float(r) for r in impact["restitution"]), str(impact.get("criterion", "F0"))
+    restitutions = tuple(float(r) for r in impact["restitution"])  # the schema has checked: numbers in (0, 1)
+    for i, r in enumerate(restitutions):
+        if r > RESTITUTION_MAX:
+            raise CaseError(path, f"impact.restitution[{i}]",
+                            f"{r!r} lies within {1 - r:.2g} of 1, above the limit {RESTITUTION_MAX!r} (1 - 1e-8): "
+                            f"the K and eta that restitute it (K about {(1 - r) / 1.0089:.2g}) cannot be resolved in "
+                            "double precision (the inversion resolves K to 1e-14; near 1 - 1.1e-16 it gives K = 0, an "
+                            "elastic contact), and no ladder could tell the run from an elastic one. Give a "
+                            f"restitution of at most {RESTITUTION_MAX!r}, or `viscosity: 0` for an elastic contact")
+    return restitutions, str(impact.get("criterion", "F0"))
 
 
-def _viscosity_for_restitution(pair, V: float, eps: float, criterion: str, i: int, path) -> float:
-    """The eta [Pa s] whose viscoelastic collision of `pair` at V restitutes eps under `criterion`;
-    a CaseError naming impact.restitution[i] when no eta does."""
+def _dissipation_for_restitution(eps: float, criterion: str, i: int, path) -> float:
+    """The K whose viscoelastic collision restitutes eps under `criterion`; a CaseError naming
+    impact.restitution[i] when no K in the solver's range does."""
     from reference.dissipation_for_restitution import dissipation_for_restitution
-
-    from .collision_scales import viscosity_for_dissipation
 
     try:
         K = dissipation_for_restitution(eps, criterion)
     except ValueError as err:
         raise CaseError(path, f"impact.restitution[{i}]", f"no viscoelastic law can reach it: {err}") from None
-    return viscosity_for_dissipation(pair.E, pair.R, pair.M, V, K)
+    if not K > 0:  # RESTITUTION_MAX keeps eps far enough from 1: a guard
+        raise CaseError(path, f"impact.restitution[{i}]", f"{eps!r} gives K = {K!r}: it cannot be told from an elastic "
+                                                          "contact; give `viscosity: 0` for one")
+    return K
+
+
+def _viscosity(pair, V: float, K: float, i: int, path) -> float:
+    """The eta [Pa s] that gives `pair` the dissipation parameter K at impact velocity V [m/s]; a
+    CaseError naming impact.restitution[i] when it is not a positive double."""
+    from .collision_scales import viscosity_for_dissipation
+
+    try:
+        eta = viscosity_for_dissipation(pair.E, pair.R, pair.M, V, K)
+    except (OverflowError, ZeroDivisionError):
+        eta = math.nan
+    if not (eta > 0 and math.isfinite(eta)):
+        raise CaseError(path, f"impact.restitution[{i}]", f"the eta that restitutes it at {V:g} m/s ({pair.geometry}) "
+                                                          "is beyond double precision")
+    return eta
 
 
 def restitution_variants(case: Case) -> list[tuple[float, Case]]:
-    """(restitution, the case with each contact's eta set to restitute it at the first impact
-    velocity under the case's criterion) for every restitution of the case, in order; the
-    variants have no restitutions of their own. A case without restitutions: []."""
+    """Every restitution of `case` at every impact velocity, each with its own viscosity.
+
+    Returns
+    -------
+    list of (restitution, Case)
+        Restitution by restitution (the case's order), velocity by velocity within each: the
+        case at that one impact velocity [m/s], each contact's eta [Pa s] set so that its
+        viscoelastic collision restitutes the restitution exactly there, under the case's
+        criterion, as an engine's restitution keyword restitutes it at every velocity (eta
+        depends on V: K = f(eps) is fixed, eta ~ K V^{-1/5}). The variants have no restitutions
+        of their own. A case without restitutions: [].
+    """
     out = []
-    for i, r in enumerate(case.restitutions):
-        pairs = tuple(replace(p, eta=_viscosity_for_restitution(p, case.velocities[0], r, case.restitution_criterion,
-                                                                i, case.path)) for p in case.pairs)
-        out.append((r, replace(case, pairs=pairs, restitutions=())))
+    for i, (r, K) in enumerate(zip(case.restitutions, case.restitution_dissipations)):
+        for V in case.velocities:
+            pairs = tuple(replace(p, eta=_viscosity(p, V, K, i, case.path)) for p in case.pairs)
+            out.append((r, replace(case, pairs=pairs, velocities=(V,), restitutions=(),
+                                   restitution_dissipations=())))
     return out
 
 
-def _measurements(data: dict, pairs, path):
-    """The case's measurement file, read (its path relative to the case file's folder), or None."""
+def project_folder(case_path) -> Path:
+    """The project folder of a case file, symlinks resolved: the nearest folder above it that holds
+    the study's Snakefile (the repository root, or a copy of the project), else `REPOSITORY_ROOT`
+    (the repository of this package). A case's measurement file must lie inside it."""
+    here = Path(os.path.abspath(str(case_path))).parent
+    for folder in (here, *here.parents):
+        if (folder / "Snakefile").is_file():
+            return folder.resolve()
+    return REPOSITORY_ROOT
+
+
+def _measurements(data: dict, pairs, path, project=None):
+    """The case's measurement file, read (its path relative to the case file's folder, inside the
+    project folder), or None."""
     if "measurements" not in data:
         return None
     from .measurement_file import load_measurements  # it imports this module
@@ -336,24 +445,64 @@ def _measurements(data: dict, pairs, path):
         raise CaseError(path, "measurements", f"measurements belong to one contact, but the case describes "
                                               f"{len(pairs)} ({', '.join(p.geometry for p in pairs)}): give one "
                                               "geometry (e.g. geometries: [sphere-plane]) or explicit bodies")
-    relative = Path(data["measurements"])
+    written = data["measurements"]  # a non-empty string (the schema)
+    if "\x00" in written:
+        raise CaseError(path, "measurements", f"{shown(written, 200)} holds a NUL character: no file is named so")
+    bad = re.search("[\x01-\x1f\x7f\ud800-\udfff]", written)
+    if bad:
+        what = "a lone surrogate" if bad[0] >= chr(0xD800) else "a control character"
+        raise CaseError(path, "measurements", f"{shown(written, 200)} holds {what} ({bad[0]!r}): a file name of the "
+                                              "project is printable text")
+    relative = Path(written)
     if relative.is_absolute():
-        raise CaseError(path, "measurements", f"{data['measurements']!r} is an absolute path: give it relative to "
+        raise CaseError(path, "measurements", f"{shown(written, 200)} is an absolute path: give it relative to "
                                               "the case file's folder, so that the project can move")
     csv_path = Path(str(path)).parent / relative
-    if not csv_path.is_file():
-        raise CaseError(path, "measurements", f"no file {str(csv_path)!r} (the path is relative to the case "
-                                              "file's folder)")
-    return load_measurements(csv_path)
+    root = Path(project).resolve() if project is not None else project_folder(path)
+    try:
+        target = Path(os.path.abspath(csv_path)).resolve()
+    except (OSError, RuntimeError) as err:  # a symlink loop
+        raise CaseError(path, "measurements", f"{shown(written, 200)} cannot be followed ({type(err).__name__}): "
+                                              "nothing was read") from None
+    if not target.is_relative_to(root):
+        raise CaseError(path, "measurements", f"{shown(written, 200)} leads outside the project folder {root} "
+                                              "(symlinks followed): a measurement file must lie inside the project, "
+                                              "e.g. beside the case file; nothing was read")
+    try:
+        found = target.exists()
+    except OSError as err:  # e.g. a name too long for the file system
+        raise CaseError(path, "measurements", f"{shown(written, 200)} cannot be read ({err.strerror or err})") from None
+    if not found:
+        raise CaseError(path, "measurements", f"no file {shown(str(csv_path), 200)} (the path is relative to the "
+                                              "case file's folder)")
+    return load_measurements(csv_path)  # a regular file of at most MAX_BYTES, checked before reading
 
 
-def load_case(path) -> Case:
-    """Read and validate a case file: UTF-8 YAML, plain data, a mapping of known fields."""
+def load_case(path, project=None) -> Case:
+    """Read and validate a case file: UTF-8 YAML, plain data, a mapping of known fields.
+
+    Parameters
+    ----------
+    path : str or Path
+        The case file: a regular file of at most `strict_yaml.MAX_BYTES` bytes (a device such as
+        /dev/zero, a FIFO or a larger file is refused before it is read).
+    project : str or Path, optional
+        The folder a `measurements:` file must lie in; default `project_folder(path)`.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    CaseError
+        Naming the file and the field; `measurement_file.MeasurementError` for its measurements.
+    """
     path = Path(path)
     text = read_utf8(path)
     scan_plain_yaml(text, path)
     try:
         data = yaml.load(text, Loader=yaml.SafeLoader)  # noqa: S506 - SafeLoader, after scan_plain_yaml
     except yaml.YAMLError as err:  # scan_plain_yaml has read the same events; kept as a guard
-        raise CaseError(path, "(file)", f"not valid YAML: {' '.join(str(err).split())}")
-    return parse_case(data, path)
+        raise CaseError(path, "(file)", f"not valid YAML: {shown(' '.join(str(err).split()), 300)}")
+    return parse_case(data, path, project)

@@ -29,9 +29,18 @@ Columns (any order, each at most once; any other column is an error):
 Numbers are plain decimals (``0.857``, ``5e-1``): no comma decimals, digit groups or text. Lines
 starting with '#' are comments (the provenance); blank lines are skipped.
 
+The file must be a regular file of at most MAX_BYTES (1 MB; its kind and size checked before it is
+read: a device such as /dev/zero is refused unread) with at most MAX_ROWS data rows (counted before
+they are parsed), and hold at least
+MIN_ROWS (3) rows at MIN_VELOCITIES (2) or more distinct velocities: the fit of eta has one
+parameter and the calibration's model checks (a residual trend in V, a constant loss) two, and
+each needs a degree of freedom left to estimate the scatter.
+
 Every refusal is a `MeasurementError` (a `contact_model.CaseError`) naming the file, the row
-(data row and line number) and the column: fewer than 2 rows, eps <= 0 or eps > 1, a
-non-positive velocity, a missing unit, a malformed number.
+(data row and line number) and the column: too few rows or velocities, eps <= 0 or eps > 1, a
+non-positive velocity, a missing unit, a malformed number. A message repeats a cell only escaped
+and cut short, and a header cell only when it looks like a column name: the text of a file that
+is no measurement file (a stray /etc/passwd) is never repeated.
 """
 
 from __future__ import annotations
@@ -45,7 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .quantities import NUMBER, CaseError, quantity
+from .quantities import NUMBER, CaseError, quantity, shown
 from .strict_yaml import read_utf8
 
 COLUMNS = ("velocity", "restitution", "rebound_velocity", "restitution_uncertainty",
@@ -54,7 +63,18 @@ COLUMNS = ("velocity", "restitution", "rebound_velocity", "restitution_uncertain
 VELOCITY_COLUMNS = ("velocity", "rebound_velocity", "rebound_velocity_uncertainty")
 _HEADER = re.compile(r"\s*([A-Za-z_]+)\s*(?:\[([^\]]*)\])?\s*")
 _PLAIN = re.compile(NUMBER)
-MAX_BYTES = 10_000_000
+#: A header cell that a message may repeat: a short name, with a short unit in brackets.
+_NAME_LIKE = re.compile(r"[A-Za-z_]{1,40}(?:\s*\[[^\]]{0,20}\])?")
+#: The largest measurement file read [bytes]: a few thousand rows of a few numbers; checked before reading.
+MAX_BYTES = 1_000_000
+#: The most data rows read (each is a solve of the collision in every step of the fit).
+MAX_ROWS = 10_000
+#: The fewest data rows the calibration fits: 1 parameter (K at V_max) for eta, 2 for its model
+#: checks (a line through the residuals against ln V; the constant loss xi_0 beside K), each with
+#: a degree of freedom left for the scatter.
+MIN_ROWS = 3
+#: The fewest distinct impact velocities: a trend in V needs two.
+MIN_VELOCITIES = 2
 
 
 class MeasurementError(CaseError):
@@ -99,11 +119,11 @@ class Measurements:
 
 def _plain_number(text: str, path, where: str) -> float:
     if not _PLAIN.fullmatch(text):
-        raise MeasurementError(path, where, f"cannot read {text!r} as a plain number (write e.g. 0.857; "
+        raise MeasurementError(path, where, f"cannot read {shown(text)} as a plain number (write e.g. 0.857; "
                                             "no comma decimals, digit groups, units or text here)")
     x = float(text)
     if not math.isfinite(x):
-        raise MeasurementError(path, where, f"{text!r} is beyond double precision")
+        raise MeasurementError(path, where, f"{shown(text)} is beyond double precision")
     return x
 
 
@@ -112,7 +132,7 @@ def _velocity_cell(text: str, unit_factor: float | None, path, where: str) -> fl
     if unit_factor is not None:
         return _plain_number(text, path, where) * unit_factor
     if _PLAIN.fullmatch(text):
-        raise MeasurementError(path, where, f"{text!r} has no unit: give the unit in the header "
+        raise MeasurementError(path, where, f"{shown(text)} has no unit: give the unit in the header "
                                             "(e.g. 'velocity [m/s]') or in the cell (e.g. '0.5 m/s')")
     try:
         return quantity(text, "velocity", path)
@@ -127,7 +147,10 @@ def _header(cells: list[str], path, line: int) -> dict[str, tuple[int, float | N
         match = _HEADER.fullmatch(cell)
         where = f"header (line {line}), column {index + 1}"
         if not match or match.group(1) not in COLUMNS:
-            raise MeasurementError(path, where, f"unknown column {cell!r}; known: {', '.join(COLUMNS)} "
+            named = (f"unknown column {cell!r}" if _NAME_LIKE.fullmatch(cell) else
+                     f"not a column name ({len(cell)} characters of other text, not shown: is this a measurement "
+                     "file?)")
+            raise MeasurementError(path, where, f"{named}; known: {', '.join(COLUMNS)} "
                                                 "(velocities with a unit: 'velocity [m/s]')")
         name, unit = match.group(1), match.group(2)
         if name in columns:
@@ -139,7 +162,7 @@ def _header(cells: list[str], path, line: int) -> dict[str, tuple[int, float | N
             try:
                 factor = quantity(f"1 {unit.strip()}", "velocity", path)
             except CaseError as err:
-                raise MeasurementError(path, where, f"the unit [{unit}] of {name!r}: {err.problem}") from None
+                raise MeasurementError(path, where, f"the unit {shown(unit)} of {name!r}: {err.problem}") from None
         columns[name] = (index, factor)
     if "velocity" not in columns:
         raise MeasurementError(path, f"header (line {line})", "no 'velocity' column (e.g. 'velocity [m/s]')")
@@ -168,15 +191,17 @@ def parse_measurements(text: str, path) -> Measurements:
         rows.append((number, raw))
     if not rows:
         raise MeasurementError(path, "(file)", "has no header and no data rows")
+    if len(rows) - 1 > MAX_ROWS:
+        raise MeasurementError(path, "(file)", f"has {len(rows) - 1} data rows; at most {MAX_ROWS} are read")
     header_line, header_text = rows[0]
-    try:
-        parsed = [(n, next(csv.reader([t], strict=True))) for n, t in rows]
-    except csv.Error as err:
-        raise MeasurementError(path, "(file)", f"not valid CSV: {err}")
+    parsed = []
+    for n, t in rows:
+        try:
+            parsed.append((n, next(csv.reader([t], strict=True))))
+        except csv.Error as err:
+            raise MeasurementError(path, f"line {n}", f"not valid CSV: {shown(str(err), 120)}") from None
     columns = _header([c.strip() for c in parsed[0][1]], path, header_line)
     data = parsed[1:]
-    if len(data) < 2:
-        raise MeasurementError(path, "(file)", f"has {len(data)} data row(s); a fit needs at least 2")
     V, eps, sigma, lines = [], [], [], []
     for i, (line, cells) in enumerate(data):
         row = f"row {i + 1} (line {line})"
@@ -190,7 +215,7 @@ def parse_measurements(text: str, path) -> Measurements:
         text, factor, where = cell("velocity")
         v = _velocity_cell(text, factor, path, where)
         if not v > 0:
-            raise MeasurementError(path, where, f"the impact velocity must be positive, got {text!r}")
+            raise MeasurementError(path, where, f"the impact velocity must be positive, got {shown(text)}")
         if "restitution" in columns:
             text, _, where = cell("restitution")
             e = _plain_number(text, path, where)
@@ -199,7 +224,7 @@ def parse_measurements(text: str, path) -> Measurements:
             e = _velocity_cell(text, factor, path, where) / v
         if not 0 < e <= 1:
             raise MeasurementError(path, where, f"the restitution coefficient must lie in (0, 1], got {e:g}"
-                                   + ("" if "restitution" in columns else f" (rebound {text!r} / impact)"))
+                                   + ("" if "restitution" in columns else f" (rebound {shown(text)} / impact)"))
         s = None
         if "restitution_uncertainty" in columns:
             text, _, where = cell("restitution_uncertainty")
@@ -208,13 +233,33 @@ def parse_measurements(text: str, path) -> Measurements:
             text, factor, where = cell("rebound_velocity_uncertainty")
             s = _velocity_cell(text, factor, path, where) / v
         if s is not None and not s > 0:
-            raise MeasurementError(path, where, f"an uncertainty must be positive, got {text!r}")
+            raise MeasurementError(path, where, f"an uncertainty must be positive, got {shown(text)}")
         V.append(v), eps.append(e), sigma.append(s), lines.append(line)
+    if len(data) < MIN_ROWS:  # after the rows: a wrong cell is named first
+        raise MeasurementError(path, "(file)", _too_few(f"{len(data)} data row(s)"))
+    if distinct_velocities(V) < MIN_VELOCITIES:
+        raise MeasurementError(path, "(file)", _too_few(f"{len(V)} rows, all at one impact velocity ({V[0]:g} m/s)"))
     return Measurements(str(path), np.array(V), np.array(eps),
                         None if sigma[0] is None else np.array(sigma), tuple(lines), "\n".join(comments))
+
+
+def distinct_velocities(velocity) -> int:
+    """How many distinct impact velocities there are, equal to 12 significant digits counting as one
+    (200 cm/s and 2 m/s are one velocity, whatever the conversion's last bit)."""
+    return len({float(f"{v:.12g}") for v in velocity})
+
+
+def _too_few(what: str) -> str:
+    """Why the calibration cannot use `what` (too few rows or velocities), and what it needs."""
+    return (f"has {what}; the calibration needs at least {MIN_ROWS} rows at {MIN_VELOCITIES} or more distinct "
+            "velocities: its fit of eta has 1 parameter (K at the highest velocity) and its model checks 2 (a line "
+            "through the residuals against ln V; a constant loss beside K), each with a degree of freedom left to "
+            "estimate the scatter. For eta from one restitution at one velocity: python -m "
+            "contact_model.viscosity_for_restitution")
 
 
 def load_measurements(path) -> Measurements:
     """Read and validate a measurement file (UTF-8 CSV; see the module docstring)."""
     path = Path(path)
-    return parse_measurements(read_utf8(path, MeasurementError, MAX_BYTES, "a measurement file is a few kB"), path)
+    return parse_measurements(read_utf8(path, MeasurementError, MAX_BYTES, "a measurement file is a few thousand"),
+                              path)

@@ -92,6 +92,7 @@ NUMBER = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
 _FACTOR = r"[^\W\d]+(?:(?:\^|\*\*)[+-]?[0-9]+)?"
 UNIT = rf"{_FACTOR}(?:(?: ?[*/] ?| ){_FACTOR})*"
 QUANTITY = re.compile(rf"({NUMBER}) ({UNIT})")
+PLAIN_NUMBER = re.compile(NUMBER)
 
 def written_unit(value: str) -> str:
     """The unit of a quantity string as its file writes it ('6.7e5 P' -> 'P'), for a value that
@@ -102,6 +103,35 @@ def written_unit(value: str) -> str:
 def in_unit(value: float, unit: str, target: str) -> float:
     """`value` [unit] expressed in `target` (a unit pint reads, e.g. a file's own 'mPa*s')."""
     return float(units().Quantity(value, unit).to(target).magnitude)
+
+
+#: The most characters of a file's text that a message repeats: longer text is cut, and its length
+#: said, so that a message never carries a file's content (a stray /etc/passwd, a megabyte string).
+SHOWN_CHARS = 40
+#: The longest quantity text read (a number, a space and a unit are a few characters); a longer
+#: text is refused before pint sees it.
+MAX_QUANTITY_CHARS = 100
+
+
+def shown(value, limit: int = SHOWN_CHARS) -> str:
+    """`value` as a message repeats it: its repr (control characters, NUL and invisible format
+    characters escaped), cut to `limit` characters with its full length said.
+
+    >>> shown("0,8 P")
+    "'0,8 P'"
+    """
+    text = repr(value)
+    if len(text) <= limit:
+        return text
+    size = f"{len(value)} characters" if isinstance(value, str) else f"{len(text)} characters written out"
+    return f"{text[:limit]}... ({size})"
+
+
+def field_text(key) -> str:
+    """A key of a file as a field name in a message: itself when it is a short name (letters, digits,
+    '_', '-', '.', spaces), else `shown` (escaped and cut)."""
+    text = str(key)
+    return text if re.fullmatch(r"[\w .-]{1,60}", text) else shown(key)
 
 
 class CaseError(ValueError):
@@ -123,7 +153,7 @@ def not_a_quantity(value, name: str) -> str:
     si_unit = _dimension(name)[1]
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         return f"{value!r} has no unit; write it as e.g. '{value} {si_unit}'"
-    return f"expected a quantity with a unit, e.g. '1 {si_unit}', got {value!r}"
+    return f"expected a quantity with a unit, e.g. '1 {si_unit}', got {shown(value)}"
 
 
 def quantity(value, name: str, path) -> float:
@@ -133,42 +163,48 @@ def quantity(value, name: str, path) -> float:
     dimension, si_unit = _dimension(name)
     if not isinstance(value, str):
         raise CaseError(path, name, not_a_quantity(value, name))
+    if len(value) > MAX_QUANTITY_CHARS:
+        raise CaseError(path, name, f"{shown(value)} is no quantity: one plain number, one space and a unit are a "
+                                    f"few characters (at most {MAX_QUANTITY_CHARS} are read), e.g. '1.5 {si_unit}'")
+    if PLAIN_NUMBER.fullmatch(value.strip()):
+        raise CaseError(path, name, f"{shown(value)} is a number without a unit (quoted, so text): write it with "
+                                    f"its unit, e.g. '{value.strip()} {si_unit}'")
     match = QUANTITY.fullmatch(value)
     if not match:
         written = re.fullmatch(rf"\s*{NUMBER}\s*(.+?)\s*", value)  # e.g. '7800 kg/m3': its unit's spelling
-        raise CaseError(path, name, f"cannot read {value!r} as a quantity: write one plain number, one space "
+        raise CaseError(path, name, f"cannot read {shown(value)} as a quantity: write one plain number, one space "
                                     f"and a unit, e.g. '1.5 {si_unit}' (no comma decimals, digit groups, "
                                     f"second numbers, expressions or other text)"
                                     f"{did_you_mean(written[1], dimension) if written else ''}")
     number, unit_text = match.groups()
     x = float(number)
     if not math.isfinite(x):
-        raise CaseError(path, name, f"the number {number} in {value!r} is beyond double precision")
+        raise CaseError(path, name, f"the number {number} in {shown(value)} is beyond double precision")
     if x == 0 and any(c in "123456789" for c in re.split("[eE]", number)[0]):
-        raise CaseError(path, name, f"the number {number} in {value!r} underflows to 0 in double precision")
+        raise CaseError(path, name, f"the number {number} in {shown(value)} underflows to 0 in double precision")
     try:  # pint parses user text: any of its exceptions means the unit cannot be read
         unit = units().parse_units(unit_text)
         factors = [units().Unit(u) for u in unit._units]
     except Exception as err:  # noqa: BLE001
-        raise CaseError(path, name, f"cannot read the unit {unit_text!r} of {value!r} ({type(err).__name__}: "
+        raise CaseError(path, name, f"cannot read the unit {unit_text!r} of {shown(value)} ({type(err).__name__}: "
                                     f"{err}){did_you_mean(unit_text, dimension)}")
     plain = [str(f) for f in factors if f.dimensionless]
     if plain:  # 'pi', 'percent', 'radian' would silently scale the number
-        raise CaseError(path, name, f"cannot read {value!r}: {plain[0]!r} is a dimensionless factor, not a unit")
+        raise CaseError(path, name, f"cannot read {shown(value)}: {plain[0]!r} is a dimensionless factor, not a unit")
     if unit.dimensionless:
-        raise CaseError(path, name, f"{value!r} has no unit; expected a {dimension} such as '{si_unit}'")
+        raise CaseError(path, name, f"{shown(value)} has no unit; expected a {dimension} such as '{si_unit}'")
     try:
         q = units().Quantity(x, unit)
         if not q.check(dimension):
-            raise CaseError(path, name, f"{value!r} is a {q.dimensionality}, expected a {dimension} (e.g. {si_unit})"
-                                        f"{did_you_mean(unit_text, dimension)}")
+            raise CaseError(path, name, f"{shown(value)} is a {q.dimensionality}, expected a {dimension} "
+                                        f"(e.g. {si_unit}){did_you_mean(unit_text, dimension)}")
         si = float(q.to(si_unit).magnitude)
     except CaseError:
         raise
     except Exception as err:  # noqa: BLE001 - e.g. an offset unit (degC) or an overflow in the conversion
-        raise CaseError(path, name, f"cannot convert {value!r} to {si_unit} ({type(err).__name__}: {err})")
+        raise CaseError(path, name, f"cannot convert {shown(value)} to {si_unit} ({type(err).__name__}: {err})")
     if not math.isfinite(si):
-        raise CaseError(path, name, f"{value!r} is beyond double precision in SI ({si_unit})")
+        raise CaseError(path, name, f"{shown(value)} is beyond double precision in SI ({si_unit})")
     if si == 0 and x != 0:
-        raise CaseError(path, name, f"{value!r} underflows to 0 {si_unit} in double precision")
+        raise CaseError(path, name, f"{shown(value)} underflows to 0 {si_unit} in double precision")
     return si + 0.0  # -0.0 -> 0.0

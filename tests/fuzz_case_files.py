@@ -6,18 +6,29 @@ loader, whether the variant is valid and, if it is, the SI numbers it must give 
 factors below are written out here, not taken from pint). For an invalid variant it knows the
 field the error should name (or None where several names are fair, e.g. for random bytes).
 
+Among the mutations are the audit's injection strings (`INJECTIONS`: backticks, ``$(touch ...)``,
+``"; rm -rf x; "``, ``*``, ``../../etc/passwd``, ``/dev/zero``, very long strings, NUL, format strings,
+markup, numbers as strings) in every kind of field (text, quantity, list item, key, the measurements
+path), YAML bombs (billion laughs), files beyond the size limit and non-UTF-8 bytes. A string of a
+case file is data: where text is allowed it is kept as it is, everywhere else it is refused. A
+shell that ran one would leave a marker file in MARKER_DIR; there must be none.
+`measurement_corpus` does the same to the case's other input, a measurement CSV.
+
     python -m tests.fuzz_case_files [N]
 
-loads a fixed corpus of N variants (default 600, seed 0) and prints how many were
-refused clearly (CaseError naming the file and the expected field), refused unclearly (any other
-exception, or a CaseError without the file or with another field), accepted although invalid
-(or with numbers different from the oracle's), refused although valid, and accepted valid.
+loads a fixed corpus of N variants (default 600, seed 0) and the measurement corpus, and prints how
+many were refused clearly (CaseError naming the file and the expected field), refused unclearly
+(any other exception, or a CaseError without the file or with another field), accepted although
+invalid (or with numbers different from the oracle's), refused although valid, and accepted
+valid; how many of them carried an injection string; and the marker files found (none).
 """
 
 from __future__ import annotations
 
+import json
 import math
 import random
+import re
 import sys
 import tempfile
 import dataclasses
@@ -77,6 +88,37 @@ BAD_QUANTITIES = [
 #: Raw YAML values that are not a quantity string at all.
 BAD_TYPES = ["109", "1.5", "true", "", "~", "[1 GPa]", "{a: 1}", "[]", "{}", "!!binary AA==",
              "&x 1 GPa", "1.0e+3", ".inf", "!!str 1 GPa"]
+
+#: Where a shell would leave its mark, were a string of a case file ever run by one.
+MARKER_DIR = Path(tempfile.gettempdir()) / "hertz_fuzz_markers"
+_M = MARKER_DIR.as_posix()
+#: The audit's injection strings and their kin: each is text to the loader, kept as data where
+#: text is allowed (name, description, notes) and refused everywhere else.
+INJECTIONS = [
+    f"`touch {_M}/backtick`", f"$(touch {_M}/dollar)", f'"; touch {_M}/semicolon; "', f"; touch {_M}/semi #",
+    f"| touch {_M}/pipe", f"&& touch {_M}/and", f"\ntouch {_M}/newline", "$(touch /tmp/x)", '"; rm -rf x; "',
+    "*", "?", "[a-z]*", "**/*.yaml", "../../etc/passwd", "../../../../../../../../etc/passwd", "/etc/passwd",
+    "/dev/zero", "/dev/stdin", "/proc/self/environ", "~/.bashrc", "${HOME}", "%s%s%n", "{0.__class__}", "{{7*7}}",
+    "<script>alert(1)</script>", "[x](javascript:alert(1))", "\u202egnp.yaml", "x" * 5000, "y" * 200_000,
+    "a\x00b", "\x1b[31mPASS\x1b[0m", "line\n# PASS", "0.8", "1e5", "null", "true", "-rf", "C:\\Windows\\win.ini",
+    "file:///etc/passwd", "\\\\server\\share", "\ud800", "caf\u00e9 \U0001F600",
+]
+#: What the loader refuses in a name (the case's title, one line) and in free text, said here
+#: independently of the schema: control and invisible characters, and lone surrogates.
+_NOT_IN_NAME = re.compile("[\x00-\x1f\x7f-\x9f\u200b-\u200f\u2028-\u202e\u2066-\u2069\ufeff\ud800-\udfff]")
+_NOT_IN_TEXT = re.compile("[\x00-\x08\x0b-\x1f\x7f\ud800-\udfff]")
+
+
+def yaml_string(text: str) -> str:
+    """`text` as a YAML double-quoted scalar that reads back exactly: JSON's escapes are YAML's, with
+    other characters written as themselves (YAML reads an escaped surrogate pair as two lone
+    surrogates) but a lone surrogate escaped (no UTF-8 file holds one)."""
+    return re.sub("[\ud800-\udfff]", lambda m: f"\\u{ord(m[0]):04x}", json.dumps(text, ensure_ascii=False))
+
+
+def is_injection(text: bytes) -> bool:
+    """Whether a variant's file carries one of INJECTIONS (as its YAML escapes write it)."""
+    return any(yaml_string(s).encode() in text for s in INJECTIONS)
 
 
 # ---------------------------------------------------------------------------- the case model
@@ -488,10 +530,61 @@ def m_plane_false_sphere(rnd, pairs, truth):
     return True, None
 
 
+def m_injection_text(rnd, pairs, truth, text=None):
+    """An injection string as free text (name, description, a note): data, kept exactly, where it
+    is printable (a name: one line of at most 100 characters); else refused naming the field."""
+    key = rnd.choice(["name", "name", "description", "note", "viscosity_note"])
+    text = rnd.choice(INJECTIONS) if text is None else text
+    drop(pairs, key)
+    pairs.insert(rnd.randrange(len(pairs) + 1), (key, yaml_string(text)))
+    if key == "name":
+        valid = 0 < len(text) <= 100 and not _NOT_IN_NAME.search(text)
+        if valid:
+            truth["name"] = text
+        return valid, None if valid else "name"
+    return (True, None) if not _NOT_IN_TEXT.search(text) else (False, key)
+
+
+def m_injection_quantity(rnd, pairs, truth, text=None):
+    """An injection string where a quantity goes: refused, naming the field."""
+    path, key, setter = rnd.choice(quantity_paths(pairs))
+    setter(yaml_string(rnd.choice(INJECTIONS) if text is None else text))
+    return False, path
+
+
+def m_injection_measurements(rnd, pairs, truth, text=None):
+    """An injection string as the measurements path: nothing is read, refused naming the field."""
+    drop(pairs, "measurements")
+    pairs.append(("measurements", yaml_string(rnd.choice(INJECTIONS) if text is None else text)))
+    return False, "measurements"
+
+
+def m_injection_key(rnd, pairs, truth, text=None):
+    """An injection string as a key: an unknown field, refused."""
+    pairs.insert(rnd.randrange(len(pairs) + 1), (yaml_string(rnd.choice(INJECTIONS) if text is None else text), "1"))
+    return False, None
+
+
+def m_injection_item(rnd, pairs, truth, text=None):
+    """An injection string in a list: geometries, impact.K, impact.velocity."""
+    text = yaml_string(rnd.choice(INJECTIONS) if text is None else text)
+    where = rnd.choice(["geometries", "K", "velocity"])
+    if where == "geometries":
+        if truth["form"] != "material":
+            return None
+        drop(pairs, "geometries")
+        pairs.append(("geometries", ["sphere-plane", text]))
+        return False, "geometries"
+    drop(pairs, "impact")
+    pairs.append(("impact", Mapping([(where, ["1 m/s" if where == "velocity" else "0.1", text])])))
+    return False, f"impact.{where}"
+
+
 MUTATIONS = [m_none, m_equivalent_unit, m_bad_quantity, m_bad_type, m_wrong_dimension, m_extreme,
              m_drop_required, m_drop_body_key, m_unknown_key, m_doc_key, m_bad_doc_key, m_duplicate_key,
              m_contradiction, m_impact, m_K_elastic, m_elastic_velocity, m_geometries, m_name, m_poisson,
-             m_bodies_shape, m_plane_false_sphere]
+             m_bodies_shape, m_plane_false_sphere, m_injection_text, m_injection_quantity, m_injection_measurements,
+             m_injection_key, m_injection_item]
 
 # Whole-text mutations: (name, function(rnd, text) -> (bytes, field)) on a valid text; all invalid.
 
@@ -546,7 +639,39 @@ def t_nul(rnd, pairs, truth):
     return (text[:cut] + rnd.choice(["\x00", "\x07", "\ufffe", "\x1b[31m"]) + text[cut:]).encode(), None
 
 
-TEXT_MUTATIONS = [t_truncate, t_random_bytes, t_non_utf8, t_not_mapping, t_deep, t_anchor_alias, t_nul]
+def t_yaml_bomb(rnd, pairs, truth):
+    """A 'billion laughs': nine levels of aliases to nine-item lists (9^9 items if expanded), or
+    aliases that grow a key; refused at its first anchor, nothing expanded."""
+    levels = ["a: &a [\"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\"]"]
+    for i in range(1, rnd.choice([3, 9])):
+        prev, name = chr(ord("a") + i - 1), chr(ord("a") + i)
+        levels.append(f"{name}: &{name} [{', '.join(['*' + prev] * 9)}]")
+    text = "\n".join(render(pairs)) + "\n" + "\n".join(levels) + "\n"
+    return text.encode(), None
+
+
+def t_huge(rnd, pairs, truth):
+    """A case file beyond the size limit (1 MB): refused unread, naming the file."""
+    text = "\n".join(render(pairs)) + "\ndescription: " + yaml_string("z" * 1_000_001) + "\n"
+    return text.encode(), "(file)"
+
+
+def t_bad_encoding(rnd, pairs, truth):
+    """Bytes that are not UTF-8: UTF-16 with its BOM, an overlong '/', a lone continuation byte, an
+    encoded surrogate, Latin-1."""
+    text = "\n".join(render(pairs)) + "\n"
+    return rnd.choice([b"\xff\xfe" + text.encode("utf-16-le"), text.encode() + b"note: \xc0\xaf\n",
+                       text.encode() + b"note: \x80\n", text.encode() + b"note: \xed\xa0\x80\n",
+                       b"name: \xe9t\xe9\n" + text.encode()]), "(file)"
+
+
+def t_injection_document(rnd, pairs, truth):
+    """A whole file that is an injection string: not a mapping."""
+    return rnd.choice(INJECTIONS[:12]).encode("utf-8", "surrogatepass"), None
+
+
+TEXT_MUTATIONS = [t_truncate, t_random_bytes, t_non_utf8, t_not_mapping, t_deep, t_anchor_alias, t_nul, t_yaml_bomb,
+                  t_huge, t_bad_encoding, t_injection_document]
 ALL = MUTATIONS + TEXT_MUTATIONS
 VALID_PRESERVING = [m_equivalent_unit, m_doc_key, m_elastic_velocity, m_plane_false_sphere]
 
@@ -571,6 +696,28 @@ def make_variant(rnd: random.Random, mutation=None) -> Variant:
 def corpus(n: int = 600, seed: int = 0) -> list[Variant]:
     """A fixed corpus: every mutation in turn, each drawn from its own seeded generator."""
     return [make_variant(random.Random(f"{seed}-{i}"), ALL[i % len(ALL)]) for i in range(n)]
+
+
+INJECTION_MUTATIONS = [m_injection_text, m_injection_quantity, m_injection_measurements, m_injection_key,
+                       m_injection_item]
+
+
+def injection_corpus(seed: int = 0) -> list[Variant]:
+    """Every injection string in every kind of place (`INJECTION_MUTATIONS`), once each, on a
+    seeded valid base: what the random corpus may miss."""
+    out = []
+    for i, text in enumerate(INJECTIONS):
+        for mutation in INJECTION_MUTATIONS:
+            rnd = random.Random(f"injection-{seed}-{i}-{mutation.__name__}")
+            while True:
+                pairs, truth = base_case(rnd)
+                outcome = mutation(rnd, pairs, truth, text)
+                if outcome is not None:
+                    valid, fld = outcome
+                    out.append(Variant(mutation.__name__, ("\n".join(render(pairs)) + "\n").encode(), valid, fld,
+                                       truth if valid else {}))
+                    break
+    return out
 
 
 # ---------------------------------------------------------------------------- the oracle
@@ -618,7 +765,10 @@ def mismatch(case, truth, path) -> str | None:
 
 
 def classify(variant: Variant, folder: Path, load=None) -> tuple[str, str]:
-    """('clear' | 'unclear' | 'accepted-invalid' | 'refused-valid' | 'accepted-valid', detail)."""
+    """('clear' | 'unclear' | 'accepted-invalid' | 'refused-valid' | 'accepted-valid', detail).
+
+    A refusal is clear when it is a CaseError naming the file and the expected field, in a message
+    of a sane length (a value of the file is repeated only cut short)."""
     from contact_model import CaseError
     load = load or __import__("contact_model").load_case
     path = folder / "case.yaml"
@@ -628,6 +778,8 @@ def classify(variant: Variant, folder: Path, load=None) -> tuple[str, str]:
     except CaseError as err:
         message = str(err)
         if not variant.valid:
+            if len(message) > len(str(path)) + 2000:
+                return "unclear", f"a message of {len(message)} characters: {message[:300]}"
             if str(path) in message and err.field and (variant.field is None or variant.field in err.field):
                 return "clear", message
             return "unclear", f"expected field {variant.field!r}: {message}"
@@ -642,27 +794,153 @@ def classify(variant: Variant, folder: Path, load=None) -> tuple[str, str]:
     return ("accepted-invalid", why) if why else ("accepted-valid", "")
 
 
+# ---------------------------------------------------------------------------- the measurement file
+#: A valid measurement file: header, three rows at three velocities.
+MEASURED_HEADER = "velocity [m/s],restitution,restitution_uncertainty"
+MEASURED_ROWS = [("0.5", "0.86", "0.005"), ("2", "0.83", "0.005"), ("6", "0.8", "0.005")]
+MEASURED_PLACES = ("velocity", "restitution", "uncertainty", "header", "column", "comment")
+#: The injection strings that are not plain numbers: a quoted CSV cell "0.8" is the number 0.8.
+_PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+CSV_INJECTIONS = [s for s in INJECTIONS if not _PLAIN_NUMBER.fullmatch(s)]
+
+
+def measurement_variant(rnd: random.Random, where: str | None = None) -> Variant:
+    """A measurement CSV with one injection string in a cell, the header, an extra column or a
+    comment line (the provenance: text, kept; every other place refuses it, naming the file)."""
+    text = rnd.choice(CSV_INJECTIONS)
+    where = where or rnd.choice(MEASURED_PLACES)
+    cell = '"' + text.replace('"', '""') + '"'  # one CSV cell, whatever it holds
+    header, rows, comments = MEASURED_HEADER, [list(r) for r in MEASURED_ROWS], ["made up for the fuzz test"]
+    if where == "comment":
+        while any(c in text for c in "\n\r\x00\ud800"):  # a comment is one line of text
+            text = rnd.choice(CSV_INJECTIONS)
+        comments.append(text.strip())
+    elif where == "header":
+        header = header.replace("restitution_uncertainty", cell)
+    elif where == "column":
+        header += "," + cell
+        rows = [r + ["1"] for r in rows]
+    else:
+        rows[rnd.randrange(3)][["velocity", "restitution", "uncertainty"].index(where)] = cell
+    body = "".join(f"# {c}\n" for c in comments) + header + "\n" + "".join(",".join(r) + "\n" for r in rows)
+    return Variant(f"measurement_{where}", body.encode("utf-8", "surrogatepass"), where == "comment", None,
+                   {"provenance": "\n".join(comments)})
+
+
+def measurement_corpus(n: int = 120, seed: int = 0) -> list[Variant]:
+    """A fixed corpus: every place in turn, each variant from its own seeded generator."""
+    return [measurement_variant(random.Random(f"measured-{seed}-{i}"), MEASURED_PLACES[i % len(MEASURED_PLACES)])
+            for i in range(n)]
+
+
+def classify_measurements(variant: Variant, folder: Path) -> tuple[str, str]:
+    """As `classify`, for a measurement variant read through a case file in `folder` (its project):
+    a refusal is clear when it is a CaseError that starts with the CSV file's path."""
+    from contact_model import CaseError, load_case
+
+    csv_path = folder / "m.csv"
+    csv_path.write_bytes(variant.text)
+    (folder / "measured.yaml").write_text("effective_modulus: 70 GPa\nradius: 5 mm\ndensity: 2700 kg/m^3\n"
+                                          "viscosity: 5e4 P\ngeometries: [sphere-plane]\nmeasurements: m.csv\n")
+    try:
+        case = load_case(folder / "measured.yaml", project=folder)
+    except CaseError as err:
+        message = str(err)
+        if variant.valid:
+            return "refused-valid", message
+        if message.startswith(f"{csv_path}: ") and len(message) < len(str(csv_path)) + 2000:
+            return "clear", message
+        return "unclear", message[:300]
+    except BaseException as err:  # noqa: BLE001 - the point is to catch anything else
+        if isinstance(err, KeyboardInterrupt):
+            raise
+        return "unclear", f"{type(err).__name__}: {err}"
+    if not variant.valid:
+        return "accepted-invalid", "accepted"
+    m = case.measurements
+    ok = m.provenance == variant.truth["provenance"] and m.velocity.tolist() == [0.5, 2.0, 6.0]
+    return ("accepted-valid", "") if ok else ("accepted-invalid", f"provenance {m.provenance!r}")
+
+
+# ---------------------------------------------------------------------------- running a corpus
+OUTCOMES = ("clear", "unclear", "accepted-invalid", "refused-valid", "accepted-valid")
+
+
+@dataclass
+class Tally:
+    """What a corpus run found: outcomes, those of the variants carrying an injection, examples,
+    marker files, and files that appeared beside the inputs."""
+
+    tried: int = 0
+    counts: dict = dataclasses.field(default_factory=dict)
+    injected: dict = dataclasses.field(default_factory=dict)
+    examples: dict = dataclasses.field(default_factory=dict)
+    markers: list = dataclasses.field(default_factory=list)
+    stray_files: list = dataclasses.field(default_factory=list)
+
+    def add(self, variant: Variant, outcome: str, detail: str) -> None:
+        self.tried += 1
+        self.counts[outcome] = self.counts.get(outcome, 0) + 1
+        if is_injection(variant.text) or variant.kind.startswith("measurement_"):
+            self.injected[outcome] = self.injected.get(outcome, 0) + 1
+        self.examples.setdefault(outcome, []).append((variant.kind, variant.text[:120], detail[:300]))
+
+    @property
+    def failures(self) -> int:
+        return sum(self.counts.get(o, 0) for o in ("unclear", "accepted-invalid", "refused-valid"))
+
+    def summary(self, what: str) -> str:
+        """One line: how many were tried, refused clearly, accepted; of them with an injection."""
+        wrong = ", ".join(f"{o} {self.counts.get(o, 0)}" for o in OUTCOMES[1:4])
+        return (f"{what}: {self.tried} tried, {self.counts.get('clear', 0)} refused clearly, "
+                f"{self.counts.get('accepted-valid', 0)} accepted as valid, {self.failures} wrong ({wrong}); "
+                f"with an injection string: {sum(self.injected.values())} tried, {self.injected.get('clear', 0)} "
+                f"refused, {self.injected.get('accepted-valid', 0)} kept as text; marker files: {len(self.markers)}; "
+                f"other files written: {len(self.stray_files)}")
+
+
+def run(variants, classify_one, folder: Path, expected_files: set[str]) -> Tally:
+    """Classify every variant in `folder`; then look for marker files (MARKER_DIR, a new /tmp/x) and
+    for any file in `folder` beyond `expected_files` (the loader writes nothing)."""
+    tally = Tally()
+    x_before = Path("/tmp/x").exists()
+    for v in variants:
+        outcome, detail = classify_one(v, folder)
+        tally.add(v, outcome, detail)
+    tally.markers = sorted(str(p) for p in MARKER_DIR.glob("*")) if MARKER_DIR.exists() else []
+    if Path("/tmp/x").exists() and not x_before:
+        tally.markers.append("/tmp/x")
+    tally.stray_files = sorted(p.name for p in folder.iterdir() if p.name not in expected_files)
+    return tally
+
+
+def run_all(n: int, folder: Path) -> tuple[Tally, Tally]:
+    """The case-file corpus of `n` variants with every injection string in every place
+    (`injection_corpus`), and the measurement corpus (n / 5, at least three per injection string),
+    each in a folder of its own under `folder`."""
+    cases, measured = folder / "cases", folder / "measured"
+    cases.mkdir(parents=True, exist_ok=True)
+    measured.mkdir(parents=True, exist_ok=True)
+    return (run(corpus(n) + injection_corpus(), classify, cases, {"case.yaml"}),
+            run(measurement_corpus(max(3 * len(INJECTIONS), n // 5)), classify_measurements, measured,
+                {"m.csv", "measured.yaml"}))
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     numbers = [a for a in argv if a.isdigit()]
     n = int(numbers[0]) if numbers else 600
-    variants = corpus(n)
-    counts, examples = {}, {}
     with tempfile.TemporaryDirectory() as tmp:
-        for v in variants:
-            outcome, detail = classify(v, Path(tmp))
-            counts[outcome] = counts.get(outcome, 0) + 1
-            examples.setdefault(outcome, []).append((v.kind, v.text[:120], detail[:300]))
-    invalid = sum(not v.valid for v in variants)
-    print(f"{n} variants ({invalid} invalid, {n - invalid} valid)")
-    for outcome in ("clear", "unclear", "accepted-invalid", "refused-valid", "accepted-valid"):
-        print(f"  {outcome:17s} {counts.get(outcome, 0)}")
-    if "-v" in argv or "--verbose" in argv:
-        for outcome in ("unclear", "accepted-invalid", "refused-valid"):
-            for kind, text, detail in examples.get(outcome, []):
-                print(f"\n[{outcome}] {kind}: {text!r}\n    {detail}")
-    return (0 if counts.get("unclear", 0) + counts.get("accepted-invalid", 0) + counts.get("refused-valid", 0) == 0
-            else 1)
+        tallies = run_all(n, Path(tmp))
+    for what, tally in zip(("case files", "measurement files"), tallies):
+        print(tally.summary(what))
+        for outcome in OUTCOMES:
+            print(f"  {outcome:17s} {tally.counts.get(outcome, 0)}")
+        if "-v" in argv or "--verbose" in argv:
+            for outcome in ("unclear", "accepted-invalid", "refused-valid"):
+                for kind, text, detail in tally.examples.get(outcome, []):
+                    print(f"\n[{outcome}] {kind}: {text!r}\n    {detail}")
+    return 0 if all(t.failures == 0 and not t.markers and not t.stray_files for t in tallies) else 1
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,6 +24,7 @@ from reference.restitution_closed_forms import (K0, PADE_DENOMINATOR, PADE_NUMER
                                                 paper_series)
 
 GUGAN = "cases/calibration/gugan_jaques_on_wood.yaml"
+ROOT = Path(__file__).resolve().parents[1]
 
 
 # ------------------------------------------------------------------------------ the measurement file
@@ -36,11 +38,12 @@ def test_measurements_units_comments_and_uncertainty():
         velocity [cm/s],restitution,restitution_uncertainty
         50,0.9,0.01
         200,0.8,0.02
+        400,0.75,0.03
     """)
-    assert m.velocity == pytest.approx([0.5, 2.0], rel=1e-15)
-    assert m.restitution.tolist() == [0.9, 0.8]
-    assert m.uncertainty.tolist() == [0.01, 0.02]
-    assert m.provenance == "provenance line" and m.lines == (3, 4)
+    assert m.velocity == pytest.approx([0.5, 2.0, 4.0], rel=1e-15)
+    assert m.restitution.tolist() == [0.9, 0.8, 0.75]
+    assert m.uncertainty.tolist() == [0.01, 0.02, 0.03]
+    assert m.provenance == "provenance line" and m.lines == (3, 4, 5)
 
 
 def test_measurements_quantities_in_cells_and_rebound_velocity():
@@ -48,14 +51,21 @@ def test_measurements_quantities_in_cells_and_rebound_velocity():
         velocity,rebound_velocity [m/s],rebound_velocity_uncertainty [cm/s]
         50 cm/s,0.4,1
         2 m/s,1.5,2
+        4 m/s,2.8,4
     """)
-    assert m.velocity == pytest.approx([0.5, 2.0], rel=1e-15)
-    assert m.restitution == pytest.approx([0.8, 0.75], rel=1e-15)
-    assert m.uncertainty == pytest.approx([0.02, 0.01], rel=1e-15)  # sigma_V' / V
+    assert m.velocity == pytest.approx([0.5, 2.0, 4.0], rel=1e-15)
+    assert m.restitution == pytest.approx([0.8, 0.75, 0.7], rel=1e-15)
+    assert m.uncertainty == pytest.approx([0.02, 0.01, 0.01], rel=1e-15)  # sigma_V' / V
 
 
 @pytest.mark.parametrize("text, where, words", [
-    ("velocity [m/s],restitution\n1,0.9\n", "(file)", "at least 2"),
+    ("velocity [m/s],restitution\n1,0.9\n", "(file)", "has 1 data row(s); the calibration needs at least 3 rows"),
+    ("velocity [m/s],restitution\n1,0.9\n2,0.88\n", "(file)",
+     "has 2 data row(s); the calibration needs at least 3 rows at 2 or more distinct velocities: its fit of eta has "
+     "1 parameter (K at the highest velocity) and its model checks 2"),
+    ("velocity,restitution\n2 m/s,0.9\n2 m/s,0.88\n200 cm/s,0.89\n", "(file)",
+     "has 3 rows, all at one impact velocity (2 m/s); the calibration needs at least 3 rows at 2 or more distinct "
+     "velocities"),
     ("velocity [m/s],restitution\n1,0.9\n2,0\n", "row 2 (line 3), column 'restitution'", "(0, 1]"),
     ("velocity [m/s],restitution\n1,0.9\n2,1.01\n", "row 2 (line 3), column 'restitution'", "(0, 1]"),
     ("velocity [m/s],restitution\n1,0.9\n-2,0.8\n", "row 2 (line 3), column 'velocity'", "positive"),
@@ -79,12 +89,19 @@ def test_bad_measurements_are_refused_with_file_row_and_field(text, where, words
 
 
 def test_case_file_measurements_relative_to_the_case(tmp_path):
+    """The path is relative to the case file's folder and must lie in the project folder: here
+    tmp_path, given (`project=`) or found by its Snakefile; outside any project, the repository."""
     (tmp_path / "data").mkdir()
-    (tmp_path / "data" / "m.csv").write_text("velocity [m/s],restitution\n1,0.9\n2,0.88\n")
+    (tmp_path / "data" / "m.csv").write_text("velocity [m/s],restitution\n1,0.9\n2,0.88\n4,0.86\n")
     body = "effective_modulus: 1 GPa\nradius: 1 cm\ndensity: 1000 kg/m^3\nviscosity: 1e4 P\n"
     ok = tmp_path / "ok.yaml"
     ok.write_text(body + "geometries: [sphere-plane]\nmeasurements: data/m.csv\n")
-    assert load_case(ok).measurements.restitution.tolist() == [0.9, 0.88]
+    assert load_case(ok, project=tmp_path).measurements.restitution.tolist() == [0.9, 0.88, 0.86]
+    with pytest.raises(CaseError, match=rf"ok.yaml: field 'measurements': 'data/m.csv' leads outside the project "
+                                        rf"folder {ROOT} \(symlinks followed\)"):
+        load_case(ok)  # tmp_path lies in no project: the repository's folder is the project
+    (tmp_path / "Snakefile").write_text("")  # a copy of the project: its own folder is the project
+    assert load_case(ok).measurements.restitution.tolist() == [0.9, 0.88, 0.86]
     both = tmp_path / "both.yaml"
     both.write_text(body + "measurements: data/m.csv\n")
     with pytest.raises(CaseError, match=r"both.yaml: field 'measurements': measurements belong to one contact"):
@@ -94,7 +111,7 @@ def test_case_file_measurements_relative_to_the_case(tmp_path):
     with pytest.raises(CaseError, match=r"missing.yaml: field 'measurements': no file .*m.csv"):
         load_case(missing)
     bad = tmp_path / "bad.yaml"
-    (tmp_path / "data" / "bad.csv").write_text("velocity [m/s],restitution\n1,0.9\n2,1.2\n")
+    (tmp_path / "data" / "bad.csv").write_text("velocity [m/s],restitution\n1,0.9\n2,1.2\n4,0.8\n")
     bad.write_text(body + "geometries: [sphere-plane]\nmeasurements: data/bad.csv\n")
     with pytest.raises(MeasurementError, match=r"bad.csv: row 2 \(line 3\), column 'restitution'"):
         load_case(bad)
@@ -225,7 +242,7 @@ def _synthetic_case(tmp_path, k_true, sigma, xi_0=0.0, seed=5, viscosity="1e4 P"
     (tmp_path / "m.csv").write_text("velocity [m/s],restitution,restitution_uncertainty\n" + rows + "\n")
     (tmp_path / "mine.yaml").write_text("effective_modulus: 1 GPa\nradius: 1 cm\ndensity: 1000 kg/m^3\n"
                                         f"viscosity: {viscosity}\ngeometries: [sphere-plane]\nmeasurements: m.csv\n")
-    return load_case(tmp_path / "mine.yaml")
+    return load_case(tmp_path / "mine.yaml", project=tmp_path)
 
 
 def test_the_answer_comes_first_in_both_units_and_warns_of_understated_uncertainties(tmp_path):
@@ -346,6 +363,9 @@ def test_gugan_case_fit_and_finding():
     # The residuals trend with V and a constant loss is needed: the model's misfit is significant.
     assert summary["residual_trend"]["t_statistic"] > 5
     assert summary["constant_loss"]["p_value"] < 1e-3 and summary["constant_loss"]["xi_0"] > 0.03
+    # eps falls with V, as the model's does: no warning
+    assert summary["restitution_trend"]["b"] < 0 and not summary["restitution_trend"]["rising"]
+    assert summary["warnings"] == []
     # Gugan's own fit of his data: K0 ~ 0.2
     assert summary["gugan_form"]["a"] == pytest.approx(0.2, abs=0.03)
     # eta moves as E*^{3/5} at fixed V_D
@@ -366,3 +386,118 @@ def test_case_fits_are_calibrates_fits():
         assert ((g.model, g.criterion, g.k, g.k_low, g.k_high, g.chi2)
                 == (f.model, f.criterion, f.k, f.k_low, f.k_high, f.chi2))
         assert np.array_equal(g.eps_fit, f.eps_fit) and np.array_equal(g.residuals, f.residuals)
+
+
+# ------------------------------------------------------------------------------ too few rows, data against the model
+def _measured_case(folder: Path, rows: str, sigma: bool = True):
+    """A measured case (the README's aluminium on a plane) in `folder`, its own project folder."""
+    header = "velocity [m/s],restitution" + (",restitution_uncertainty" if sigma else "")
+    (folder / "m.csv").write_text(f"# made up for a test\n{header}\n{rows}")
+    (folder / "mine.yaml").write_text("effective_modulus: 70 GPa\nradius: 5 mm\ndensity: 2700 kg/m^3\n"
+                                      "viscosity: 5e4 P\ngeometries: [sphere-plane]\nmeasurements: m.csv\n")
+    return load_case(folder / "mine.yaml", project=folder)
+
+
+def test_a_two_row_file_is_refused_naming_it_and_how_many_rows_the_calibration_needs(tmp_path):
+    """Two rows used to pass the loader and crash calibrate (ZeroDivisionError in the constant-loss
+    test, n - 2 = 0 degrees of freedom): refused when the case is loaded, naming the CSV."""
+    with pytest.raises(MeasurementError) as err:
+        _measured_case(tmp_path, "1,0.9,0.005\n2,0.88,0.005\n")
+    assert str(err.value) == (
+        f"{tmp_path / 'm.csv'}: (file): has 2 data row(s); the calibration needs at least 3 rows at 2 or more "
+        "distinct velocities: its fit of eta has 1 parameter (K at the highest velocity) and its model checks 2 (a "
+        "line through the residuals against ln V; a constant loss beside K), each with a degree of freedom left to "
+        "estimate the scatter. For eta from one restitution at one velocity: python -m "
+        "contact_model.viscosity_for_restitution")
+
+
+def test_calibrate_itself_refuses_too_few_rows_or_velocities(tmp_path):
+    """Measurements made in code, past the loader: calibrate refuses them too, naming the file."""
+    import dataclasses
+
+    from contact_model.measurement_file import Measurements
+
+    case = _measured_case(tmp_path, "1,0.9,0.005\n2,0.88,0.005\n4,0.86,0.005\n")
+    for V, eps in (([1.0, 2.0], [0.9, 0.88]), ([2.0, 2.0, 2.0], [0.9, 0.88, 0.89])):
+        m = Measurements("x.csv", np.array(V), np.array(eps), None, tuple(range(2, 2 + len(V))), "")
+        with pytest.raises(CalibrationError, match=r"^x.csv: \(file\): has \d rows at \d distinct velocities; the "
+                                                   r"calibration needs at least 3 rows at 2 or more velocities"):
+            calibrate(dataclasses.replace(case, measurements=m))
+
+
+def test_three_rows_at_two_velocities_are_calibrated_with_finite_checks(tmp_path):
+    """The fewest rows the calibration takes: every number of the summary is finite (the constant-loss
+    test and both trend lines have 1 degree of freedom left)."""
+    summary, fits = calibrate(_measured_case(tmp_path, "1,0.86,0.005\n1,0.85,0.005\n4,0.82,0.005\n"))
+    for name in ("x0", "F0"):
+        f = summary["fits"][name]
+        assert f["n"] == 3 and 0 < f["eta_interval_Pa_s"][0] < f["eta_Pa_s"] < f["eta_interval_Pa_s"][1]
+    assert summary["constant_loss"]["F"] >= 0 and math.isfinite(summary["constant_loss"]["p_value"])
+    assert summary["residual_trend"]["dof"] == 1 and math.isfinite(summary["residual_trend"]["b_se"])
+    assert summary["restitution_trend"]["dof"] == 1 and not summary["warnings"]
+
+
+RISING = "0.5,0.795,0.005\n1,0.806,0.005\n2,0.827,0.005\n4,0.84,0.005\n6,0.86,0.005\n"
+
+
+def test_restitution_rising_with_velocity_is_flagged_not_to_be_used(tmp_path):
+    """eps rising with V (the README's data with eps in reverse order), which the viscoelastic model
+    cannot produce: least squares still gives an eta, but the summary, the answer lines and the
+    fit's log say it is not to be used; the same rows falling with V (the README's) are not flagged."""
+    from calibration.outputs import answer_lines
+
+    summary, _ = calibrate(_measured_case(tmp_path, RISING))
+    rise = summary["restitution_trend"]
+    # an independent regression: eps against ln V (equal weights: all sigma are 0.005)
+    V, eps = np.array([0.5, 1, 2, 4, 6]), np.array([0.795, 0.806, 0.827, 0.84, 0.86])
+    line = stats.linregress(np.log(V), eps)
+    chi2_red = np.sum((eps - line.intercept - line.slope * np.log(V)) ** 2) / 0.005**2 / 3
+    assert chi2_red < 1  # the line scatters less than the stated 0.005: the standard error is the stated one
+    se = 0.005 / np.sqrt(np.sum((np.log(V) - np.log(V).mean()) ** 2))
+    assert rise["b"] == pytest.approx(line.slope, rel=1e-12)
+    assert rise["b_se"] == pytest.approx(se, rel=1e-12)
+    assert rise["p_rising"] == pytest.approx(stats.t.sf(line.slope / se, 3), rel=1e-9)
+    assert rise["rising"] and rise["p_rising"] < 1e-3
+    warning = summary["warnings"][0]
+    assert warning.startswith(f"the measured eps rises with the impact velocity (slope +{line.slope:.3g} ± "
+                              f"{se:.2g} per unit of ln V, t = {line.slope / se:.1f}, one-sided p = "
+                              f"{rise['p_rising']:.2g} < 0.01), which the viscoelastic model cannot produce: its eps "
+                              "falls monotonically with V. The fitted eta is the least-squares compromise")
+    lines = answer_lines(summary)
+    for criterion in ("x0", "F0"):
+        eta = summary["fits"][criterion]["eta_Pa_s"]
+        assert f"- **mine, {criterion}: do not use eta = {eta:.4g} Pa·s" in "\n".join(lines)
+    assert f"  - Warning: {warning}." in lines
+    assert not any("use eta" in x and "do not use" not in x for x in lines)
+
+    (tmp_path / "falling").mkdir()
+    falling, _ = calibrate(_measured_case(tmp_path / "falling", "0.5,0.86,0.005\n1,0.84,0.005\n2,0.827,0.005\n"
+                                                                "4,0.806,0.005\n6,0.795,0.005\n"))
+    assert not falling["restitution_trend"]["rising"] and falling["restitution_trend"]["p_rising"] > 0.99
+    assert not falling["warnings"]
+    assert all("do not use" not in x for x in answer_lines(falling))
+
+
+@pytest.mark.parametrize("sigma", [None, "0.001"])
+def test_rising_restitution_is_flagged_from_the_scatter_where_it_exceeds_the_stated(tmp_path, sigma):
+    """No uncertainty column, or one that understates the scatter about the line (0.001): the slope's
+    standard error is the scatter's (linregress's own)."""
+    rows = RISING.replace(",0.005", "" if sigma is None else f",{sigma}")
+    summary, _ = calibrate(_measured_case(tmp_path, rows, sigma=sigma is not None))
+    V, eps = np.array([0.5, 1, 2, 4, 6]), np.array([0.795, 0.806, 0.827, 0.84, 0.86])
+    line = stats.linregress(np.log(V), eps)
+    rise = summary["restitution_trend"]
+    assert rise["b_se"] == pytest.approx(line.stderr, rel=1e-12) and rise["rising"]
+    assert summary["warnings"] and summary["warnings"][0].startswith("the measured eps rises with the impact velocity")
+
+
+def test_the_calibration_report_escapes_what_the_files_say():
+    """A case name or provenance line is data in the report: no HTML, no links, no new lines."""
+    from calibration.outputs import as_text, as_title
+
+    assert as_text("<script>alert(1)</script>") == "&lt;script&gt;alert(1)&lt;/script&gt;"
+    assert as_text("[click](javascript:x) ![i](y) `rm` | x") == r"\[click\](javascript:x) \!\[i\](y) \`rm\` \| x"
+    assert as_text("a\n# PASS\r\nb\x00c") == r"a \# PASS b c"
+    assert as_text("gugan_jaques_on_wood") == "gugan_jaques_on_wood"
+    assert as_text("x" * 500) == "x" * 200 + "..."
+    assert as_title("a $\\frac{1}{0}$ b") == r"a \$\frac{1}{0}\$ b"

@@ -252,6 +252,8 @@ def test_named_documentation_keys_are_kept(tmp_path):
 
 
 # ---------------------------------------------------------------------------- fuzzing
+import shutil  # noqa: E402
+
 from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
 
 import fuzz_case_files as fuzz  # noqa: E402
@@ -272,6 +274,38 @@ def test_fuzzed_case_files_are_read_or_refused_clearly(tmp_path, rnd):
 def test_every_mutation_is_exercised_by_the_corpus():
     kinds = {v.kind for v in fuzz.corpus(len(fuzz.ALL) * 2)}
     assert kinds == {m.__name__ for m in fuzz.ALL}
+
+
+def test_every_injection_string_is_tried_in_every_kind_of_place():
+    variants = fuzz.injection_corpus()
+    assert len(variants) == len(fuzz.INJECTIONS) * len(fuzz.INJECTION_MUTATIONS)
+    for text in fuzz.INJECTIONS:
+        assert sum(fuzz.yaml_string(text).encode() in v.text for v in variants) >= len(fuzz.INJECTION_MUTATIONS), text
+    for audit in ("`touch", "$(touch /tmp/x)", '"; rm -rf x; "', "*", "../../etc/passwd", "/dev/zero", "a\x00b"):
+        assert audit in fuzz.INJECTIONS or any(s.startswith(audit) for s in fuzz.INJECTIONS), audit
+    assert max(map(len, fuzz.INJECTIONS)) >= 100_000  # a very long string
+
+
+def test_the_corpus_and_the_audits_injection_strings_are_read_or_refused_clearly(tmp_path, capsys):
+    """The fixed corpus of case files (every mutation, and every injection string in every kind of
+    place) and of measurement files: each accepted with the oracle's numbers (an injection string
+    kept exactly as text where text is allowed) or refused by a CaseError naming the file and the
+    field, in a message of sane length; no marker file of an injection appears, and the loader
+    writes no file. The counts are printed (a line per corpus, shown with -q too)."""
+    shutil.rmtree(fuzz.MARKER_DIR, ignore_errors=True)
+    tallies = fuzz.run_all(len(fuzz.ALL) * 10, tmp_path)
+    with capsys.disabled():
+        for what, tally in zip(("case files", "measurement files"), tallies):
+            print(f"\nfuzz: {tally.summary(what)}")
+    for tally in tallies:
+        wrong = [x for o in ("unclear", "accepted-invalid", "refused-valid") for x in tally.examples.get(o, [])]
+        assert tally.failures == 0, wrong[:5]
+        assert tally.markers == [] and not fuzz.MARKER_DIR.exists()
+        assert tally.stray_files == []  # nothing written beside the inputs
+        assert tally.injected.get("clear", 0) > 0 and tally.injected.get("accepted-valid", 0) > 0
+    cases, measured = tallies
+    assert cases.tried == len(fuzz.ALL) * 10 + len(fuzz.INJECTIONS) * len(fuzz.INJECTION_MUTATIONS)
+    assert sum(cases.injected.values()) >= len(fuzz.INJECTIONS) * len(fuzz.INJECTION_MUTATIONS)
 
 
 RESTITUTION = """
@@ -325,3 +359,283 @@ def test_a_case_without_viscosity_or_restitution_is_refused(tmp_path):
     with pytest.raises(CaseError) as err:
         load_case(write(tmp_path, GOOD.replace("viscosity: 6.7e5 P\n", "")))
     assert err.value.field == "viscosity" and "missing" in str(err.value)
+
+
+# ---------------------------------------------------------------------------- files that are not small regular files
+import os  # noqa: E402
+import signal  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from contact_model.measurement_file import MeasurementError  # noqa: E402
+from contact_model.strict_yaml import MAX_BYTES, key_bytes  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def no_hang():
+    """Fail, rather than hang, a test whose file would block an open or a read (a FIFO)."""
+    def alarm(*_):
+        raise TimeoutError("the loader blocked on a file it should have refused unread")
+
+    old = signal.signal(signal.SIGALRM, alarm)
+    signal.alarm(20)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, old)
+
+
+def _special(tmp_path, kind) -> tuple[Path, str]:
+    """A path of the given kind and what the loader must say it is."""
+    if kind == "character device":
+        return Path("/dev/zero"), "is a character device, not a regular file"
+    path = tmp_path / "case.yaml"
+    if kind == "symlink to /dev/zero":
+        path.symlink_to("/dev/zero")
+        return path, "is a character device, not a regular file"
+    if kind == "named pipe":
+        os.mkfifo(path)
+        return path, "is a named pipe (FIFO), not a regular file"
+    if kind == "directory":
+        path.mkdir()
+        return path, "is a directory, not a regular file"
+    with open(path, "wb") as fh:  # a sparse file: 2 MB that are never read
+        fh.truncate(2 * MAX_BYTES)
+    return path, (f"is {2 * MAX_BYTES} bytes; a case file is a few hundred bytes (limit {MAX_BYTES}, checked before "
+                  "reading)")
+
+
+@pytest.mark.parametrize("kind", ["character device", "symlink to /dev/zero", "named pipe", "directory", "too large"])
+def test_a_case_path_that_is_not_a_small_regular_file_is_refused_before_it_is_read(tmp_path, no_hang, kind):
+    """`cases=/dev/zero` was read whole (80 s, 20 GB) before its size was checked: now the kind and
+    the size are checked first (os.stat), in well under a second, and the message names the file."""
+    path, said = _special(tmp_path, kind)
+    start = time.perf_counter()
+    with pytest.raises(CaseError) as err:
+        load_case(path)
+    assert time.perf_counter() - start < 1.0
+    assert err.value.field == "(file)" and str(err.value).startswith(f"{path}: field '(file)': {said}"), str(err.value)
+    # the workflow's cache key reads case files too: it takes the refusal instead, unread
+    assert key_bytes(path).startswith(b"\0refused\0" + said.encode())
+
+
+def test_the_cache_key_takes_a_regular_case_files_bytes(tmp_path):
+    path = write(tmp_path, GOOD)
+    assert key_bytes(path) == path.read_bytes()
+
+
+@pytest.mark.parametrize("kind", ["named pipe", "directory", "too large"])
+def test_a_measurement_path_that_is_not_a_small_regular_file_is_refused_before_it_is_read(tmp_path, no_hang, kind):
+    data = tmp_path / "data"
+    data.mkdir()
+    path, said = _special(data, kind)
+    said = said.replace("a case file is a few hundred", "a measurement file is a few thousand")
+    case = write(tmp_path, MEASURED.format(path="data/case.yaml"))
+    with pytest.raises(MeasurementError) as err:
+        load_case(case, project=tmp_path)
+    assert str(err.value).startswith(f"{path}: (file): {said}"), str(err.value)
+
+
+# ---------------------------------------------------------------------------- measurement paths inside the project
+MEASURED = """
+effective_modulus: 70 GPa
+radius: 5 mm
+density: 2700 kg/m^3
+viscosity: 5e4 P
+geometries: [sphere-plane]
+measurements: "{path}"
+"""
+ROWS = "velocity [m/s],restitution\n0.5,0.86\n2,0.83\n6,0.8\n"
+
+
+def test_a_measurement_path_leading_outside_the_project_is_refused_unread(tmp_path):
+    """'../../../../../etc/passwd' was read and its first line echoed: refused, naming the case
+    file and the field, before anything is read; with the project found (the repository, for a case
+    file in no project) or given."""
+    path = write(tmp_path, MEASURED.format(path="../../../../../../../../etc/passwd"))
+    for project, root in ((None, ROOT), (tmp_path, tmp_path.resolve())):
+        with pytest.raises(CaseError) as err:
+            load_case(path, project=project)
+        assert str(err.value) == (f"{path}: field 'measurements': '../../../../../../../../etc/passwd' leads outside "
+                                  f"the project folder {root} (symlinks followed): a measurement file must lie inside "
+                                  "the project, e.g. beside the case file; nothing was read")
+        assert "root:" not in str(err.value)
+
+
+@pytest.mark.parametrize("target, words", [
+    ("/etc/passwd", "leads outside the project folder"),
+    ("/dev/zero", "leads outside the project folder"),
+    ("inside.csv", None),  # a symlink that stays inside: read
+])
+def test_a_symlink_is_followed_before_the_path_is_judged(tmp_path, target, words):
+    (tmp_path / "inside.csv").write_text(ROWS)
+    (tmp_path / "link.csv").symlink_to(target if target.startswith("/") else tmp_path / target)
+    path = write(tmp_path, MEASURED.format(path="link.csv"))
+    if words is None:
+        assert load_case(path, project=tmp_path).measurements.velocity.tolist() == [0.5, 2.0, 6.0]
+        return
+    with pytest.raises(CaseError) as err:
+        load_case(path, project=tmp_path)
+    assert err.value.field == "measurements" and words in str(err.value) and str(path) in str(err.value)
+
+
+@pytest.mark.parametrize("written, words", [
+    ("m\\0.csv", "'m\\x00.csv' holds a NUL character: no file is named so"),
+    ("/etc/passwd", "'/etc/passwd' is an absolute path"),
+    ("/dev/zero", "'/dev/zero' is an absolute path"),
+    ("absent.csv", "no file"),
+    (".", None),  # the project's own folder: a directory, refused by the reader
+])
+def test_a_measurement_path_that_names_no_file_of_the_project_is_refused(tmp_path, written, words):
+    path = write(tmp_path, MEASURED.format(path=written))
+    with pytest.raises(CaseError) as err:
+        load_case(path, project=tmp_path)
+    if words is None:
+        assert str(err.value) == f"{tmp_path}: (file): is a directory, not a regular file: only a file on disk is " \
+                                 f"read (at most 1000000 bytes)"
+        return
+    assert err.value.field == "measurements" and words in str(err.value), str(err.value)
+
+
+def test_the_project_folder_is_the_nearest_one_with_the_studys_snakefile(tmp_path):
+    from contact_model.case_file import project_folder
+
+    assert project_folder(ROOT / "cases" / "calibration" / "gugan_jaques_on_wood.yaml") == ROOT
+    (tmp_path / "copy" / "cases").mkdir(parents=True)
+    assert project_folder(tmp_path / "copy" / "cases" / "x.yaml") == ROOT  # no Snakefile above it
+    (tmp_path / "copy" / "Snakefile").write_text("")
+    assert project_folder(tmp_path / "copy" / "cases" / "x.yaml") == (tmp_path / "copy").resolve()
+
+
+def test_a_file_that_is_no_measurement_file_is_not_repeated(tmp_path):
+    """A passwd-like file inside the project given as measurements: the message says where it is
+    wrong, not what it holds."""
+    (tmp_path / "stray.csv").write_text("root:x:0:0:root:/root:/bin/bash\nbin:x:1:1:bin:/bin:/sbin/nologin\n")
+    path = write(tmp_path, MEASURED.format(path="stray.csv"))
+    with pytest.raises(MeasurementError) as err:
+        load_case(path, project=tmp_path)
+    assert str(err.value) == (f"{tmp_path / 'stray.csv'}: header (line 1), column 1: not a column name (31 characters "
+                              "of other text, not shown: is this a measurement file?); known: velocity, restitution, "
+                              "rebound_velocity, restitution_uncertainty, rebound_velocity_uncertainty (velocities "
+                              "with a unit: 'velocity [m/s]')")
+    # a case file that is no case file: its text is not repeated either
+    stray = tmp_path / "passwd.yaml"
+    stray.write_text("root:x:0:0:root:/root:/bin/bash\nbin:x:1:1:bin:/bin:/sbin/nologin\n")
+    with pytest.raises(CaseError) as err:
+        load_case(stray)
+    assert str(err.value) == (f"{stray}: field '(top level)': a case file must be a YAML mapping of fields, got one "
+                              "text of 64 characters (not shown)")  # YAML folds the line break into a space
+
+
+def test_a_long_value_is_cut_in_the_message(tmp_path):
+    path = write(tmp_path, GOOD.replace("radius: 0.635 cm", "radius: " + "9" * 100_000 + " cm"))
+    with pytest.raises(CaseError) as err:
+        load_case(path)
+    assert len(str(err.value)) < 400 and "(100003 characters) is no quantity" in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("name", ['"a\\n# PASS"', '"a\\u202eb"', '"a\\x1b[31m"', "x" * 101])
+def test_a_name_is_one_line_of_printable_text(tmp_path, name):
+    path = write(tmp_path, GOOD.replace("name: demo", f"name: {name}"))
+    with pytest.raises(CaseError) as err:
+        load_case(path)
+    assert err.value.field == "name" and ("one line of printable text" in str(err.value)
+                                          or "at most 100 characters" in str(err.value))
+
+
+# ---------------------------------------------------------------------------- numbers written as text
+@pytest.mark.parametrize("text, old, new, field, hint", [
+    (RESTITUTION, "restitution: [0.8, 0.5]", "restitution: ['0.8', 0.5]", "impact.restitution[0]",
+     "must be a number in (0, 1), got '0.8' ('0.8' is in quotes, so it is text, not a number: write it without "
+     "quotes, 0.8)"),
+    (BODIES, "K: [0.1, 0.3]", 'K: ["0.1", 0.3]', "impact.K[0]",
+     "('0.1' is in quotes, so it is text, not a number: write it without quotes, 0.1)"),
+    (BODIES, "poisson: 0.3}", "poisson: '0.3'}", "bodies[0].poisson",
+     "got '0.3' ('0.3' is in quotes, so it is text, not a number: write it without quotes, 0.3)"),
+    (BODIES, "K: [0.1, 0.3]", "K: [1e-1, 0.3]", "impact.K[0]",
+     "(YAML 1.1 reads 1e-1 as text, not a number: write its mantissa with a dot and its exponent with a sign, 1.0e-1)"),
+    (BODIES, "K: [0.1, 0.3]", "K: [2E1, 0.3]", "impact.K[0]",
+     "(YAML 1.1 reads 2E1 as text, not a number: write its mantissa with a dot and its exponent with a sign, 2.0E+1)"),
+    (BODIES, "K: [0.1, 0.3]", "K: [+.5, 0.3]", "impact.K[0]",
+     "(YAML 1.1 reads +.5 as text, not a number: write it as 0.5)"),
+    (GOOD, "radius: 0.635 cm", "radius: '0.635'", "radius",
+     "'0.635' is a number without a unit (quoted, so text): write it with its unit, e.g. '0.635 m'"),
+])
+def test_a_number_written_as_text_gets_the_hint_that_fits(tmp_path, text, old, new, field, hint):
+    """A quoted '0.8' was told to write its exponent with a dot and a sign, though it has none."""
+    assert old in text
+    path = write(tmp_path, text.replace(old, new))
+    with pytest.raises(CaseError) as err:
+        load_case(path)
+    assert err.value.field == field and hint in str(err.value), str(err.value)
+    assert ("exponent" in str(err.value)) == ("exponent" in hint)  # no exponent hint for a number without one
+
+
+# ---------------------------------------------------------------------------- restitutions at several velocities
+def test_every_restitution_runs_at_every_velocity_each_with_the_eta_that_restitutes_it_there(tmp_path):
+    """impact: {restitution: [0.8, 0.5], velocity: [3.9 m/s, 1 m/s, 20 m/s]}: each of the six runs
+    restitutes its restitution (F0) to 1e-9 by the reference solver, as an engine's restitution
+    keyword does at every velocity; eta falls as V^{-1/5} (K fixed by eps)."""
+    from contact_model.case_file import restitution_variants
+    from reference import solve_collision
+
+    case = load_case(write(tmp_path, RESTITUTION.replace("[3.9 m/s]", "[3.9 m/s, 1 m/s, 20 m/s]")))
+    (pair,) = case.pairs
+    assert solve_collision(pair.dissipation_parameter(3.9))["eps_F0"] == pytest.approx(0.8, abs=1e-9)
+    variants = restitution_variants(case)
+    assert [(r, v.velocities) for r, v in variants] == [(r, (V,)) for r in (0.8, 0.5) for V in (3.9, 1.0, 20.0)]
+    for r, v in variants:
+        (p,) = v.pairs
+        assert solve_collision(p.dissipation_parameter(v.velocities[0]))["eps_F0"] == pytest.approx(r, abs=1e-9)
+        assert not v.restitutions
+    etas = {(r, v.velocities[0]): v.pairs[0].eta for r, v in variants}
+    for r in (0.8, 0.5):
+        assert etas[(r, 20.0)] / etas[(r, 1.0)] == pytest.approx(20.0 ** -0.2, rel=1e-12)
+
+
+def test_a_plan_of_restitutions_at_several_velocities_restitutes_each_in_every_run(tmp_path):
+    """The plan: every viscoelastic run restitutes its restitution at its own velocity, the
+    out-of-the-box law is told it at each, and the notes give each velocity's eta."""
+    from engines.plan import plan_runs
+    from reference import solve_collision
+
+    case = load_case(write(tmp_path, RESTITUTION.replace("[3.9 m/s]", "[3.9 m/s, 1 m/s]")))
+    plan = plan_runs(case, ["lammps"], laws=["viscoelastic", "elastic", "default"])
+    visco = [r for r in plan.runs if r.law == "viscoelastic"]
+    assert {(round(solve_collision(r.K)["eps_F0"], 9), r.velocity) for r in visco} == {
+        (0.8, 3.9), (0.8, 1.0), (0.5, 3.9), (0.5, 1.0)}
+    assert {(r.matched_restitution, r.velocity) for r in plan.runs if r.law == "default"} == {
+        (0.8, 3.9), (0.8, 1.0), (0.5, 3.9), (0.5, 1.0)}
+    assert {r.velocity for r in plan.runs if r.law == "elastic"} == {3.9, 1.0}
+    restitution_notes = [n for n in plan.notes if ": restitution " in n]
+    assert [n.split(": sphere-plane")[0] for n in restitution_notes] == [
+        f"alumina: restitution {r} under F0 at V = {V} m/s" for r in (0.8, 0.5) for V in (3.9, 1)]
+
+
+# ---------------------------------------------------------------------------- restitutions too close to 1
+@pytest.mark.parametrize("value", ["0.9999999999999999", "0.999999999", "0.99999999000001"])
+def test_a_restitution_too_close_to_1_to_resolve_its_eta_is_refused(tmp_path, value):
+    """0.9999999999999999 quietly became an elastic case (K = 0): refused above 1 - 1e-8, naming
+    the field, the value and the limit."""
+    path = write(tmp_path, RESTITUTION.replace("[0.8, 0.5]", f"[0.8, {value}]"))
+    with pytest.raises(CaseError) as err:
+        load_case(path)
+    r = float(value)
+    assert err.value.field == "impact.restitution[1]"
+    assert str(err.value).startswith(f"{path}: field 'impact.restitution[1]': {r!r} lies within {1 - r:.2g} of 1, "
+                                     "above the limit 0.99999999 (1 - 1e-8): the K and eta that restitute it (K "
+                                     "about "), str(err.value)
+    assert "Give a restitution of at most 0.99999999, or `viscosity: 0` for an elastic contact" in str(err.value)
+
+
+def test_the_restitution_at_the_limit_is_resolved(tmp_path):
+    """0.99999999 itself: K about 1e-8, resolved to 1e-6 relative at worst (Brent's method to 1e-14
+    in K); the solver restitutes it to 1e-14."""
+    from reference import solve_collision
+
+    case = load_case(write(tmp_path, RESTITUTION.replace("[0.8, 0.5]", "[0.99999999]")))
+    (K,) = case.restitution_dissipations
+    assert K == pytest.approx((1 - 0.99999999) / 1.0089, rel=1e-3)
+    assert solve_collision(K)["eps_F0"] == pytest.approx(0.99999999, abs=1e-14)
+    assert case.pairs[0].eta > 0

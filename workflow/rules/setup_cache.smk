@@ -9,6 +9,8 @@
 import hashlib
 import json
 
+from contact_model.strict_yaml import key_bytes
+
 
 def requested():
     """(targets, target jobs) of this run, from Snakemake's own reading of the command line;
@@ -34,7 +36,8 @@ def setup_key(config, case_files):
     the plan code's files (their paths, sizes and modification times)."""
     h = hashlib.sha256(json.dumps(config, sort_keys=True, default=str).encode())
     for stem, path in sorted(case_files.items()):
-        h.update(f"{stem}\0{path}\0".encode() + Path(path).read_bytes())
+        # key_bytes: a regular file's bytes, or why it is refused (/dev/zero, a FIFO, > 1 MB) unread
+        h.update(f"{stem}\0{path}\0".encode() + key_bytes(path))
     for package in _PLAN_CODE:
         for f in sorted(Path(workflow.basedir, package).glob("*.py")):
             st = f.stat()

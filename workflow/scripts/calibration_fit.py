@@ -16,3 +16,6 @@ for name in ("x0", "F0", "series"):
     f = summary["fits"][name]
     log.info("%s %s: eta = %.5g P [%.5g, %.5g], K(V_max) = %.5f, rms residual %.3g", case.name, name, f["eta_P"],
              *f["eta_interval_P"], f["K_at_V_ref"], f["rms_residual"])
+# What makes the eta above unfit to use (the data contradict the model): in the log as in the report.
+for warning in summary["warnings"]:
+    log.warning("%s (%s): do not use the eta above: %s", case.name, case.measurements.path, warning)

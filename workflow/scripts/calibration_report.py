@@ -19,6 +19,8 @@ summaries = [json.loads(Path(fit).read_text()) for fit in snakemake.input.fits]
 lines += ["**The answers** (eta for the engines' viscoelastic contact; the sections below say how):", ""]
 for summary in summaries:
     lines += answer_lines(summary)
+    for warning in summary.get("warnings", []):  # the data contradict the model: said in the log too
+        log.warning("%s: do not use its eta: %s", summary["case"], warning)
 lines += [""]
 for fit, summary, residuals, loop in zip(snakemake.input.fits, summaries, snakemake.input.residuals,
                                          snakemake.input.loops):
