@@ -242,8 +242,8 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
     is not run there, listed in `Plan.not_available` with the reason.
 
     A case with restitutions (`impact: restitution`) is planned once per restitution
-    (`contact_model.case_file.restitution_variants`): its contacts' eta set to restitute it at
-    the first impact velocity, the out-of-the-box law told it.
+    (`contact_model.case_file.restitution_variants`) at each impact velocity: its contacts' eta
+    set to restitute it there, the out-of-the-box law told it.
 
     Raises `PlanError` (naming the case file and the field) for a case the engines cannot run
     honestly: see the module's docstring."""
@@ -333,8 +333,8 @@ def _plan_restitutions(case: Case, engines, laws, K_grid, time_step_factor, matc
     from contact_model.case_file import restitution_variants
 
     plan = Plan()
-    V = case.velocities[0]
-    for r, variant in restitution_variants(case):
+    for r, variant in restitution_variants(case):  # one per restitution and velocity, each its own eta
+        V = variant.velocities[0]
         sub = plan_runs(variant, engines, laws, K_grid, time_step_factor, match_K, max_overlap_ratio, roundoff_limit,
                         ladder, told=r)
         names = {run.name for run in plan.runs}
