@@ -61,8 +61,11 @@ else:
         if not ok:
             out["problem"], build = failed(text, status), None
         elif shutil.which(build.executable) is None:
-            out["problem"], build = (f"`{command}` ran, but {build.executable} is still not an executable: the "
-                                     "entry's install does not install it"), None
+            project = Path(snakemake.params.project).resolve()
+            where = Path(build.executable)
+            shown = where.relative_to(project) if where.is_relative_to(project) else where
+            out["problem"], build = (f"`{command}` ran, but {shown} is still not an executable: the entry's "
+                                     "install does not install it"), None
 if build is not None:
     out["build"] = {"id": build.id, "code": build.code, "executable": build.executable}
     try:
