@@ -163,6 +163,13 @@ class Keyword:
     #: The first release of the code that has it, (year, month, day); None: every release.
     since: tuple[int, int, int] | None = None
 
+    @property
+    def damping_form(self):
+        """Its `contact_model.damping_forms.DampingForm` (equation, solver, ladder powers)."""
+        from contact_model.damping_forms import DAMPING_FORMS
+
+        return DAMPING_FORMS[self.form]
+
     def told_for(self, e: float) -> float:
         """The value the code is told for a requested restitution `e` (`from_restitution`)."""
         return e if self.from_restitution is None else self.from_restitution(e)

@@ -44,10 +44,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from contact_model.damping_forms import DAMPING_FORMS, DampingForm
 from reference.series import CRITERIA
 
-#: The damping forms (the power p of x^p x'); 'keyword': each code's own.
-DAMPING_POWER = {"half": 0.5, "quarter": 0.25, "velocity": 0.0, "none": None, "keyword": None}
+#: The damping forms' powers p of x^p x' (`contact_model.damping_forms`); 'keyword': each code's own.
+DAMPING_POWER = {**{name: form.power for name, form in DAMPING_FORMS.items()}, "keyword": None}
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,8 @@ class Law:
     told : str
         What a run is told: 'eta' (the case's viscosity), 'none', or 'e' (a restitution: the
         case's own, else the viscoelastic reference eps at config `default_law_match_K`).
+    left_out : str
+        Why the default study (config/config.yaml `laws:`) does not run it; '' when it does.
     """
 
     name: str
@@ -91,6 +94,14 @@ class Law:
     model: bool
     keyword: str | None = None
     told: str = "eta"
+    #: Why config/config.yaml's `laws:` (the default study) leaves it out; '' when it lists it.
+    left_out: str = ""
+
+    @property
+    def form(self) -> DampingForm | None:
+        """Its damping form (`contact_model.damping_forms`): what its equation, reference solver
+        and ladder powers are; None for ``default``, whose form is each code's keyword's."""
+        return None if self.damping == "keyword" else DAMPING_FORMS[self.damping]
 
     @property
     def is_keyword(self) -> bool:
@@ -110,7 +121,9 @@ LAW_REGISTRY: dict[str, Law] = {law.name: law for law in (
         "quarter", True, ("F0",), "F0", False, keyword="yade:betan", told="e"),
     Law("en_vn", "YADE's Hertz-Mindlin told en and vn (Mueller & Poeschel's Pade route to Brilliantov's law, "
         "YADE 2024.02a and later), against its own equation", "half", True, ("F0",), "F0", False,
-        keyword="yade:en-vn", told="e"),
+        keyword="yade:en-vn", told="e",
+        left_out="it runs in one build (yade-2025) at YADE's per-step cost, about 40 s more of the study; run it "
+                 "with --config 'laws=[en_vn]' (docs/keywords.md)"),
     Law("coeff_restitution", "LAMMPS's hertz/material with damping coeff_restitution, against its own equation",
         "quarter", False, ("x0",), "x0", False, keyword="lammps:coeff_restitution", told="e"),
     Law("velocity", "LAMMPS's hertz/material with damping velocity (F_d = -eta_n d(delta)/dt), against its own "

@@ -59,22 +59,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contact_model.damping_forms import DAMPING_FORMS
+from contact_model.keywords import KEYWORDS
 from contact_model.laws import LAW_REGISTRY
 
 #: Where contact starts on the step grid: half a step after a sample, at every rung (no sample
 #: falls at touching, where a rounding-level overlap would decide whether a force acts).
 START_PHASE = 0.5
-#: The powers of h in the expansion of each kind of law (see the module's docstring). A damping
-#: force growing as s^{1/4} from touching (the engines' restitution keywords, x^{1/4} x') gives
-#: h^{5/4 + k} where the viscoelastic law's s^{1/2} gives h^{3/2 + k}: measured on every code's
-#: keyword (tests/test_engine_keywords.py), its ladder's limit meets the closed form to 1e-8.
-DISSIPATIVE_POWERS = (1.0, 1.5, 2.0, 2.5, 3.0)
-ELASTIC_POWERS = (2.0, 2.5, 3.5, 4.0)
-QUARTER_POWERS = (1.0, 1.25, 2.0, 2.25, 2.5)
-#: A linear dashpot (LAMMPS `damping velocity`, `mass_velocity`) acts at once: its force jumps to
-#: c V at touching and from c x' to 0 at the x0 end, steps of a smooth force, so the expansion is
-#: in whole powers of h plus Hertz's h^{5/2} (tests/test_engine_keywords.py).
-LINEAR_POWERS = (1.0, 2.0, 2.5, 3.0)
+#: The powers of h in the expansion of each damping form (`contact_model.damping_forms`, which owns
+#: them; named here for the tests and the docs). A damping force growing as s^{1/4} from touching (the
+#: engines' restitution keywords, x^{1/4} x') gives h^{5/4 + k} where the viscoelastic law's s^{1/2}
+#: gives h^{3/2 + k}; a linear dashpot whole powers and Hertz's h^{5/2}.
+DISSIPATIVE_POWERS = DAMPING_FORMS["half"].ladder_powers()
+ELASTIC_POWERS = DAMPING_FORMS["none"].ladder_powers()
+QUARTER_POWERS = DAMPING_FORMS["quarter"].ladder_powers()
+LINEAR_POWERS = DAMPING_FORMS["velocity"].ladder_powers()
 #: Fewest steps a contact may take at a rung (T_e/10, the coarsest production step of the
 #: convergence study, gives about 10): the event detections use stencils of up to five samples.
 MIN_CONTACT_STEPS = 8
@@ -87,15 +86,31 @@ PHASE_TOLERANCE = 1e-4
 RESOLUTION_FLOOR = 1e-8
 
 
-def powers_of(eta: float, law: str = "viscoelastic") -> tuple[float, ...]:
-    """The powers of h in the error expansion of a run of `law` with viscosity `eta`: an
-    engine's keyword's (`contact_model.laws`, all of the x^{1/4} form), else elastic for eta = 0,
-    else the viscoelastic law's."""
-    if LAW_REGISTRY[law].damping == "velocity":
-        return LINEAR_POWERS
-    if LAW_REGISTRY[law].is_keyword:
-        return QUARTER_POWERS
-    return ELASTIC_POWERS if eta == 0 else DISSIPATIVE_POWERS
+def form_of(law: str, engine: str | None = None):
+    """The damping form (`contact_model.damping_forms`) a run of `law` in `engine` runs: its
+    keyword's (law ``default``: the engine's own keyword, `engines.codes.keyword_of`), else the law's.
+
+    Raises
+    ------
+    ValueError
+        For ``default`` without an engine: each code's keyword has its own form.
+    """
+    from .codes import keyword_of
+
+    entry = LAW_REGISTRY[law]
+    if entry.form is not None:
+        return entry.form
+    if engine is None:
+        raise ValueError(f"law {law!r} runs each code's own keyword: name the engine to know its damping form")
+    return KEYWORDS[keyword_of(law, engine)].damping_form
+
+
+def powers_of(eta: float, law: str = "viscoelastic", engine: str | None = None) -> tuple[float, ...]:
+    """The powers of h in the error expansion of a run of `law` (in `engine`, for ``default``) with
+    viscosity `eta` [Pa s] (or any coefficient: only whether it is 0 matters): its damping form's
+    (`form_of`, `contact_model.damping_forms.DampingForm.ladder_powers`)."""
+    damped = LAW_REGISTRY[law].is_keyword or eta != 0  # a keyword's coefficient is its own, not eta
+    return form_of(law, engine).ladder_powers(1.0 if damped else 0.0)
 
 
 def rung_factor(factor: float, K: float) -> int:

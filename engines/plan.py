@@ -112,7 +112,7 @@ def ladder_roundoff(rungs: list[RunSpec]) -> float:
     """The round-off of positions that a ladder of runs may carry into its extrapolated errors,
     relative (`engines.ladder.ladder_roundoff` of the rungs' steps and floors; see ROUNDOFF_LIMIT)."""
     return roundoff_of_ladder([r.time_step / r.scales["T_e"] for r in rungs], [r.roundoff_floor() for r in rungs],
-                              powers_of(rungs[0].pair.eta, rungs[0].law))
+                              powers_of(rungs[0].pair.eta, rungs[0].law, rungs[0].engine))
 
 
 def _velocity_meaning(field_name: str) -> str:

@@ -74,7 +74,8 @@ def _limit_row(g: pd.DataFrame) -> dict:
     h = g.h.to_numpy(dtype=float)
     # The expansion depends on whether the contact dissipates (K > 0), not on the law's name: an
     # elastic contact written as 'viscoelastic' with eta = 0 converges as dt^2 too.
-    powers = powers_of(0.0 if finest.law == "elastic" or float(finest.K) == 0 else 1.0, str(finest.law))
+    powers = powers_of(0.0 if finest.law == "elastic" or float(finest.K) == 0 else 1.0, str(finest.law),
+                       str(finest.engine))
     floors = g.roundoff_floor.to_numpy(dtype=float)
     roundoff = ladder_roundoff(h, floors, powers) if np.isfinite(floors).all() else math.nan
     offsets = [phase_offset(p, START_PHASE) for p in g.start_phase.to_numpy(dtype=float)]

@@ -59,7 +59,7 @@ def promise_rows(build: str, code: str, keyword, rungs_by_e: dict, metrics: dict
             continue
         h = [r.time_step / r.scales["T_e"] for r in rungs]
         y = [(metrics[r.name].eps_x0 if end == "x0" else metrics[r.name].eps_F0) / eps_own - 1 for r in rungs]
-        limit = extrapolate(h, y, powers_of(rungs[0].pair.eta, rungs[0].law))
+        limit = extrapolate(h, y, powers_of(rungs[0].pair.eta, rungs[0].law, rungs[0].engine))
         delivered = eps_own * (1 + limit.value)
         rows.append({**out, "eps_delivered": delivered, "err_own_equation": limit.value,
                      "err_promise": delivered - e, "resolution": max(limit.estimate, RESOLUTION_FLOOR)})

@@ -198,10 +198,13 @@ def _keyword_section(limits: pd.DataFrame, builds) -> list[str]:
     table = table.iloc[np.lexsort((table.K.to_numpy(), [order.index(b) for b in table.build]))]
     keywords = [KEYWORDS[keyword_of(law, e)] for law, e in dict.fromkeys(zip(limits.law, limits.engine))]
     defects = {k.name: k.known_defect for k in keywords if k.known_defect}
+    forms = dict.fromkeys(k.damping_form for k in keywords)
+    equations = " or ".join(f"{f.equation()} ({', '.join(k.name for k in keywords if k.damping_form is f)})"
+                            for f in forms)
     return ["## The engines' restitution keywords: their own equation, their promise", "",
             "What a user runs: each code's own damping keyword told a restitution coefficient e "
             "(docs/keywords.md). Each is gated against the equation its code computes, "
-            "x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 with b from e by the code's own map (the law `default` of "
+            f"{equations}, with the coefficient from e by the code's own map (the law `default` of "
             "the matrix, and the keyword laws beside it: ladders extrapolated to dt -> 0 against that equation's "
             "closed form); what that equation restitutes against e is the keyword's promise, reported, not gated. "
             "The keywords are told the viscoelastic model's eps at one K (config default_law_match_K) under the "
@@ -263,8 +266,9 @@ def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
         return (f"{build}'s {keyword.written} computes its own equation, x'' + c x' + (5/4) x^(3/2) = 0 (c = {c:.6g}, "
                 f"the eta_n the study computes to restitute e = {told:.4f} at each run's velocity), to {worst:.1e} at "
                 "dt -> 0; at a fixed eta_n its c falls as V^(-1/5), so its restitution rises with the velocity.")
-    text = (f"{build}'s {keyword.written} computes its own equation, x'' + b x^(1/4) x' + (5/4) x^(3/2) = 0 "
-            f"(b = {keyword.b(keyword.told_for(told)):.6g} told e = {told:.4f}"
+    form = keyword.damping_form
+    text = (f"{build}'s {keyword.written} computes its own equation, {form.equation()} "
+            f"({form.symbol} = {keyword.b(keyword.told_for(told)):.6g} told e = {told:.4f}"
             f"{', the force clipped' if keyword.clipped else ''}), to "
             f"{worst:.1e} at dt -> 0; that equation restitutes {own:.6f} ({keyword.criterion}): its promise is off "
             f"by {own - told:+.2e}.")

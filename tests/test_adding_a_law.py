@@ -13,11 +13,13 @@ from contact_model import laws as laws_module
 from contact_model.keywords import KEYWORDS, keyword_reference
 from contact_model.laws import CRITERIA, DAMPING_POWER, LAW_REGISTRY, Law
 from engines.codes import CODES
-from engines.ladder import powers_of
+from engines.ladder import form_of, powers_of
+from test_damping_forms import FIRST, SECOND, measured_powers
 from reference import solve_collision
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = yaml.safe_load((ROOT / "config" / "config.schema.yaml").read_text())
+CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 DOCS = "\n".join(p.read_text() for p in (ROOT / "docs").glob("*.md"))
 
 
@@ -71,12 +73,26 @@ def recipe_problems(law: Law) -> list[str]:
     except (KeyError, ValueError, TypeError):
         ok = False
     check("reference/", ok, f"no solution of {law.name}'s equation")
-    try:
-        check("engines/ladder.py", len(powers_of(0.0 if law.damping == "none" else 1.0, law.name)) >= 3,
-              f"fewer than three powers for {law.name}'s ladders")
-    except KeyError:
-        problems.append(f"engines/ladder.py: no powers for {law.name}")
-    # 5. A reader finds it.
+    # The ladder's powers are those its damping form's expansion gives on the engines' map, measured
+    # (tests/test_damping_forms.py), for each code's keyword where the law is each code's own.
+    codes = [c for c in CODES if law.damping == "keyword"] or [None]
+    for code in codes:
+        where = f" in {code}" if code else ""
+        try:
+            powers = powers_of(0.0 if law.damping == "none" else 1.0, law.name, code)
+            form = form_of(law.name, code)
+        except (KeyError, ValueError) as err:
+            problems.append(f"engines/ladder.py: no powers for {law.name}{where} ({err})")
+            continue
+        measured = measured_powers(form.power)
+        check("engines/ladder.py", len(powers) >= 3 and abs(powers[0] - measured[0]) <= FIRST
+              and abs(powers[1] - measured[1]) <= SECOND,
+              f"{law.name}{where}'s ladders eliminate {powers[:2]}, but its force on the engines' map measures "
+              f"({measured[0]:.3f}, {measured[1]:.3f})")
+    # 5. The default study runs it, or its entry says why not.
+    check("config/config.yaml", law.name in CONFIG["laws"] or law.left_out,
+          f"`laws:` does not list {law.name!r} and its entry gives no reason (Law.left_out)")
+    # 6. A reader finds it.
     check("docs/", f"`{law.name}`" in DOCS, f"no doc names the law `{law.name}`")
     return problems
 
@@ -92,7 +108,26 @@ def test_a_law_added_to_the_registry_alone_fails_at_every_place(monkeypatch):
     monkeypatch.setitem(laws_module.LAW_REGISTRY, "dummy", dummy)
     places = {p.split(":")[0] for p in recipe_problems(dummy)}
     assert places == {"contact_model/laws.py", "config/config.schema.yaml", "contact_model/keywords.py",
-                      "reference/", "docs/"}, recipe_problems(dummy)
+                      "reference/", "engines/ladder.py", "config/config.yaml", "docs/"}, recipe_problems(dummy)
+
+
+def test_the_ladder_that_gave_every_keyword_the_quarter_powers_fails_naming_en_vn(monkeypatch):
+    """Before the damping forms, engines.ladder.powers_of gave every keyword law x^{1/4}'s powers, YADE's
+    en + vn (a x^{1/2} force) too: measured on the map, the recipe now names that place."""
+    import test_adding_a_law as this
+    from engines.ladder import DISSIPATIVE_POWERS, ELASTIC_POWERS, QUARTER_POWERS
+
+    def old_powers_of(eta, law="viscoelastic", engine=None):
+        if LAW_REGISTRY[law].is_keyword:
+            return QUARTER_POWERS
+        return ELASTIC_POWERS if eta == 0 else DISSIPATIVE_POWERS
+
+    monkeypatch.setattr(this, "powers_of", old_powers_of)
+    problems = recipe_problems(LAW_REGISTRY["en_vn"])
+    assert len(problems) == 1 and problems[0].startswith(
+        "engines/ladder.py: en_vn's ladders eliminate (1.0, 1.25), but its force on the engines' map measures (1.0"
+    ), problems
+    assert recipe_problems(LAW_REGISTRY["betan"]) == []  # an x^{1/4} keyword was right all along
 
 
 def test_the_derived_tuples_are_the_registry():

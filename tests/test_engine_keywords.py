@@ -65,7 +65,7 @@ def test_the_keyword_computes_its_own_equation(build, law, e, tmp_path):
         errors["eps"].append(eps / eps_ref - 1)
     h = [spec.time_step / spec.scales["T_e"] for spec in specs]
     for q, y in errors.items():
-        x = extrapolate(h, y, powers_of(pair.eta, law))
+        x = extrapolate(h, y, powers_of(pair.eta, law, build.code))
         resolution = max(x.estimate, RESOLUTION_FLOOR)
         assert abs(x.value) + resolution <= 1e-6, (q, x, y)
         assert abs(y[-1]) > 10 * abs(x.value) or abs(y[-1]) < 1e-6  # the ladder removed the step's own error
