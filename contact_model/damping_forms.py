@@ -48,6 +48,8 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+import numpy as np
+
 #: Hertz alone: the map is symmetric (even powers), Hertz's s^{3/2} at both ends adds 5/2 (+1 ...).
 ELASTIC_POWERS = (2.0, 2.5, 3.5, 4.0)
 
@@ -86,6 +88,21 @@ class DampingForm:
     symbol: ClassVar[str] = "c"
     label: ClassVar[str] = ""
     eps_of_velocity: ClassVar[str] = "none"
+    #: The power of V its coefficient goes with at a fixed coefficient of the physical law (K ~ V^{1/5},
+    #: b ~ V^0, c ~ V^{-1/5}): from the force's units, c x^p x' in delta_e = O(V^{4/5}) gives (1/5)(4p - 1).
+    velocity_exponent: ClassVar[float] = 0.0
+
+    @property
+    def is_viscoelastic(self) -> bool:
+        """Whether its coefficient is the viscoelastic model's K (form ``half``): the paper's series, the
+        ladder refined by sqrt(K) above K = 1 and the reference's K range apply to it."""
+        return self.power == 0.5
+
+    def restitution_at(self, coefficient: float, criterion: str, V) -> np.ndarray:
+        """eps at impact velocities `V` [m/s] of the collision whose coefficient is `coefficient` at
+        1 m/s (the physical law fixed): the coefficient times V^`velocity_exponent` at each."""
+        V = np.asarray(V, dtype=float)
+        return np.array([self.restitution(coefficient * v**self.velocity_exponent, criterion) for v in V])
 
     def ladder_powers(self, coefficient: float = 1.0) -> tuple[float, ...]:
         r"""The powers of h = dt/T_e in the error expansion of an engine run of this form.
@@ -135,6 +152,7 @@ class HalfPower(DampingForm):
     """Kuwabara-Kono / Brilliantov: K x^{1/2} x', the viscoelastic model (`reference.collision_ode`)."""
 
     name, power, symbol, label, eps_of_velocity = "half", 0.5, "K", "δ^½ δ'", "falls"
+    velocity_exponent = 0.2
 
     def ladder_powers(self, coefficient: float = 1.0) -> tuple[float, ...]:
         """1, 3/2, 2, 5/2, 3 (tests/test_ladder.py measures the first three on the map)."""
@@ -144,6 +162,13 @@ class HalfPower(DampingForm):
         from reference import solve_collision
 
         return solve_collision(coefficient)
+
+    def restitution_at(self, coefficient, criterion, V):
+        """As `DampingForm.restitution_at`, the whole batch of K in one solve."""
+        from reference import solve_collisions
+
+        return np.asarray(getattr(solve_collisions(coefficient * np.asarray(V, dtype=float) ** 0.2),
+                                  f"eps_{criterion}"))
 
 
 @register
@@ -174,6 +199,7 @@ class LinearDashpot(DampingForm):
     whole powers of h plus Hertz's h^{5/2}."""
 
     name, power, symbol, label, eps_of_velocity = "velocity", 0.0, "c", "δ'", "rises"
+    velocity_exponent = -0.2
 
     def ladder_powers(self, coefficient: float = 1.0) -> tuple[float, ...]:
         return ELASTIC_POWERS if coefficient == 0 else (1.0, 2.0, 2.5, 3.0)

@@ -269,17 +269,7 @@ def promised_restitution(keyword: str, e: float) -> float:
     exactly, under the criterion its force allows (`Keyword.criterion`); its promise error is
     this minus e."""
     k = KEYWORDS[keyword]
-    if k.form == "velocity":
-        from reference.linear_damping import restitution_linear_damping
-
-        return restitution_linear_damping(k.b(k.told_for(e)), k.criterion)
-    if k.form == "half":  # Brilliantov's law itself, at its K
-        from reference import solve_collision
-
-        return solve_collision(k.b(k.told_for(e)))[f"eps_{k.criterion}"]
-    from reference.quarter_power_damping import restitution_quarter_power
-
-    return restitution_quarter_power(k.b(k.told_for(e)), k.criterion)
+    return k.damping_form.restitution(k.b(k.told_for(e)), k.criterion)
 
 
 #: The month names of the engines' version banners.

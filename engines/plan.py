@@ -97,7 +97,7 @@ def ladder_factors(ladder: dict, law: str, K: float, own_K: float | None = None)
 def keyword_own_K(keyword: str | None, reference: dict | None) -> float | None:
     """The K of a keyword whose force is Brilliantov's (form 'half': its reference row's b), which
     refines its ladder as the viscoelastic law's; None for the others."""
-    if keyword is None or KEYWORDS[keyword].form != "half" or not reference:
+    if keyword is None or not KEYWORDS[keyword].damping_form.is_viscoelastic or not reference:
         return None
     return float(reference["b"])
 

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field, replace
 
 from contact_model import LAW_CRITERIA, LAWS, ContactPair
 from contact_model.keywords import KEYWORDS
+from contact_model.laws import LAW_REGISTRY
 from reference import HERTZ_TAU, solve_collision
 
 from .codes import CODES, keyword_of
@@ -44,12 +45,6 @@ DEFAULT_LAW_CRITERION = {name: c.default_criterion for name, c in CODES.items()}
 #: sample) and after separation.
 GAP_STEPS = 20
 TAIL_STEPS = 30
-#: The end of contact each law's time step is aligned to (`engines.ladder.aligned_time_step`):
-#: the point where its force is not smooth, so that it falls at the same phase of the step grid
-#: at every rung of a ladder. The tail's x0 end (force ~ delta^{1/2} d(delta)/dt), the clipped
-#: force's kink at F0, Hertz's x0 end (~ delta^{3/2}). The out-of-the-box law is not aligned
-#: (it runs at one time step, compared, not gated).
-ALIGNED_END = {"viscoelastic": "x0", "viscoelastic_clipped": "F0", "elastic": "x0"}
 #: Unit round-off of an IEEE double: a stored number is off by at most this, relatively.
 UNIT_ROUNDOFF = 2.0**-53
 
@@ -109,7 +104,7 @@ class RunSpec:
     @property
     def time_step(self) -> float:
         """dt [s]: T_e / time_step_factor, moved so that a whole number of steps spans the
-        contact up to the law's aligned end (`ALIGNED_END`, `engines.ladder.aligned_time_step`):
+        contact up to the law's aligned end (`aligned_end`, `engines.ladder.aligned_time_step`):
         with the start at START_PHASE, the end then falls at the same phase at every time step
         of a ladder. Unaligned (exactly T_e / factor) where the reference is not solved (K > 10)."""
         T_e = self.scales["T_e"]
@@ -120,11 +115,14 @@ class RunSpec:
 
     @property
     def aligned_end(self) -> str | None:
-        """The end of contact its time step is aligned to (`ALIGNED_END`; for the engine's keyword,
-        the end its force allows: F0 where it clips, x0 where it keeps the tail)."""
+        """The end of contact its time step is aligned to (`engines.ladder.aligned_time_step`): the point
+        where its force is not smooth, so that it falls at the same phase of the step grid at every rung
+        of a ladder (`contact_model.laws.Law.aligned_end`: the tail's x0 end, the clipped force's kink at
+        F0, Hertz's x0 end); for an engine's keyword, the end its force allows (F0 where it clips, x0
+        where it keeps the tail)."""
         if self.keyword is not None:
             return KEYWORDS[self.keyword].criterion
-        return ALIGNED_END.get(self.law)
+        return LAW_REGISTRY[self.law].aligned_end
 
     def _reference_row(self) -> dict | None:
         """The reference solution at this run's K (None for K > 10, outside the solver's range)."""

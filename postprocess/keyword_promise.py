@@ -142,7 +142,7 @@ def promise_over_velocity(keywords, restitutions, ratios=VELOCITY_RATIOS) -> pd.
 
     rows = []
     for keyword in keywords:
-        if keyword.form != "half":
+        if not keyword.damping_form.is_viscoelastic:  # only a K moves with V (YADE's en + vn)
             continue
         for e in restitutions:
             K_vn = keyword.b(keyword.told_for(float(e)))

@@ -46,18 +46,11 @@ FORMS = (
 
 def form_restitution(form: str, criterion: str, coefficient: float, V: np.ndarray) -> np.ndarray:
     """eps at impact velocities V [m/s] of damping `form` with its coefficient at 1 m/s."""
-    V = np.asarray(V, dtype=float)
-    if form == "half":
-        from reference import solve_collisions
+    from contact_model.damping_forms import damping_form
 
-        return np.asarray(getattr(solve_collisions(coefficient * V**0.2), f"eps_{criterion}"))
-    if form == "quarter":
-        return np.full_like(V, coefficient)
-    if form == "velocity":
-        from reference.linear_damping import solve_linear_damping
-
-        return np.array([solve_linear_damping(coefficient * v**-0.2)[f"eps_{criterion}"] for v in V])
-    raise ValueError(f"unknown damping form {form!r}")
+    if form == "quarter":  # its eps is its one coefficient (e), at every velocity
+        return np.full_like(np.asarray(V, dtype=float), coefficient)
+    return damping_form(form).restitution_at(coefficient, criterion, V)
 
 
 def fit_forms(V, eps) -> pd.DataFrame:

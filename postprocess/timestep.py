@@ -55,7 +55,7 @@ import yaml
 
 from contact_model import CaseError, load_case
 from contact_model.keywords import KEYWORDS, keyword_reference
-from contact_model.laws import DAMPING_POWER, LAW_REGISTRY
+from contact_model.laws import LAW_REGISTRY
 from engines.codes import CODES, integrators, keyword_of
 from records.collision_metrics import ExtractionError, collision_metrics
 from reference import HERTZ_TAU, solve_collision
@@ -370,7 +370,7 @@ def collisions(case, law: str, code: str | None, restitution: float | None, K: f
                 what = f"--restitution {told:g}" if told_by[0] != "case" else f"{case.path}: field 'impact.restitution'"
                 raise AdvisorError(f"{what}: {refused}", *told_by)
             row = keyword_reference(keyword, told, 0.0)
-            out.append(Collision(law=law, power=DAMPING_POWER[k.form] if k.form != "half" else 0.5,
+            out.append(Collision(law=law, power=k.damping_form.power,
                                  coefficient=row["b"], clipped=k.clipped, criterion=k.criterion, reference=row,
                                  K=math.nan, **common))
             continue
