@@ -68,12 +68,22 @@ def dump_problem(path, sha256: str) -> str | None:
     return None
 
 
-def changed_dumps(manifest_paths) -> list[str]:
+def changed_dumps(manifest_paths, verified=None) -> list[str]:
     """`dump_problem` of every dump of the manifests `manifest_paths` that has one, in their order:
     empty when every dump is the one its engine job wrote. A manifest that cannot be read is a
-    problem of its own. The workflow's gates refuse a PASS while this is not empty, and the case
-    summary reruns when it changes (workflow/rules/engines.smk). It reads every dump once: about
-    1 s per GB (sha256)."""
+    problem of its own.
+
+    Every dump is hashed (sha256: about 1 s per GB once the files are cached, 3x that from disk)
+    unless `verified` names a cache file (JSON), which records, for each dump found intact, its
+    inode, size, mtime, ctime and the sha256 it was checked against: a dump whose stat still
+    matches its record is not hashed again. Any change of a file's content, of its mtime (`touch
+    -r` included), its mode or its name sets its ctime to now, which no user command sets back, so
+    no changed dump passes for its record; a copied folder (new inodes) is hashed again once. With
+    the cache the whole study's 5600 dumps (590 MB) take 0.1 s instead of 0.8 s (3.5 s from disk). A cache that
+    cannot be read or written is left out (everything is hashed). The workflow's gates check
+    every dump in full before a PASS; the case summary reruns when the cached list changes
+    (workflow/rules/engines.smk)."""
+    cache = _read_cache(verified) if verified else {}
     problems = []
     for manifest in manifest_paths:
         try:
@@ -81,8 +91,37 @@ def changed_dumps(manifest_paths) -> list[str]:
         except DumpError as err:
             problems.append(str(err))
             continue
-        problems += [p for p in (dump_problem(d["path"], d["sha256"]) for d in dumps) if p]
+        for d in dumps:
+            key = os.path.abspath(d["path"])
+            try:
+                st = os.stat(key)
+                stamp = [st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns, d["sha256"]]
+            except OSError:
+                stamp = None
+            if stamp is not None and cache.get(key) == stamp:
+                continue
+            problem = dump_problem(d["path"], d["sha256"])
+            if problem:
+                problems.append(problem)
+                cache.pop(key, None)
+            elif stamp is not None:
+                cache[key] = stamp
+    if verified:
+        try:
+            Path(verified).parent.mkdir(parents=True, exist_ok=True)
+            write_atomically(verified, json.dumps(cache))
+        except OSError:
+            pass
     return problems
+
+
+def _read_cache(path) -> dict:
+    """The records of `changed_dumps`'s cache file `path`, or none where it cannot be read."""
+    try:
+        cache = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return {}
+    return cache if isinstance(cache, dict) else {}
 
 
 def verified_dump(path, sha256: str):

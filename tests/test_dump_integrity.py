@@ -209,3 +209,29 @@ def test_every_figure_of_the_project_is_saved_through_save_figure():
     direct = [f"{p.relative_to(root)}:{i + 1}" for p in sources if p.name != "files.py" or p.parent.name != "records"
               for i, line in enumerate(p.read_text().splitlines()) if re.search(r"\.savefig\(", line)]
     assert direct == [] and len(sources) > 50
+
+
+def test_the_cache_of_verified_dumps_does_not_hide_an_edit_that_keeps_size_and_mtime(job, tmp_path):
+    """changed_dumps with its cache (what the case summary's rerun trigger uses): an intact dump is
+    recorded and not hashed again; a dump edited in place to the same length with its mtime set back
+    (os.utime, as `touch -r` does) is still named, its ctime having moved."""
+    import os
+
+    from records.run_manifest import changed_dumps
+
+    cache = tmp_path / "cache" / "x.json"
+    assert changed_dumps([job], verified=cache) == []
+    records = json.loads(cache.read_text())
+    b = job.parent / "runs" / "b.csv"
+    assert sorted(records) == [str(job.parent / "runs" / "a.csv"), str(b)]
+    assert records[str(b)][1] == b.stat().st_size and records[str(b)][4] == file_sha256(b)
+    assert changed_dumps([job], verified=cache) == []
+    before = b.stat()
+    text = b.read_text()
+    b.write_text(text[:-2] + ("9" if text[-2] != "9" else "8") + "\n")  # the last digit of the last force
+    os.utime(b, ns=(before.st_atime_ns, before.st_mtime_ns))
+    assert b.stat().st_size == before.st_size and b.stat().st_mtime_ns == before.st_mtime_ns
+    problems = changed_dumps([job], verified=cache)
+    assert len(problems) == 1 and problems[0].startswith(f"{b}: the dump changed after the engine job wrote it")
+    assert str(b) not in json.loads(cache.read_text())  # named again on the next run
+    assert changed_dumps([job], verified=cache) == problems
