@@ -11,18 +11,28 @@ disk when it is killed. So every engine process
 - runs in a session of its own, and the whole process group is killed when it times out, and
   after it exits (MPI helpers, a `shell` command's children or a wrapper's engine must not linger);
   so is every other process of its session: mpirun puts each rank in a process group of its own;
+- dies with the job that started it, however the job ends, and with the job's workflow: a
+  `kill -9` of Snakemake, or of the job's script, must not leave an engine running (nor a script
+  that writes its manifest after the workflow is gone). The engine gets SIGKILL when the job's
+  process dies (PR_SET_PDEATHSIG), and the job's guard (`engine_guard`), a small process beside
+  it, kills the engine's whole session (mpirun's ranks, the real `lmp` under PyPI's Python
+  wrapper) when the job's process is gone, and the job itself with its engines when the
+  Snakemake that runs it is gone;
 - sees none of the variables of a SLURM job step or of a PMI server (`engine_environment`);
 - keeps Open MPI's session directory in a folder of its own (`OMPI_SESSION_VARIABLE`).
 """
 
 from __future__ import annotations
 
+import ctypes
 import math
 import os
 import shutil
 import signal
 import subprocess
+import sys
 import tempfile
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -119,6 +129,218 @@ def kill_all(pgid: int, sig: int = signal.SIGKILL) -> None:
     kill_session(pgid, sig)
 
 
+#: prctl(2)'s option: the signal a process gets when the thread that started it ends (Linux).
+PR_SET_PDEATHSIG = 1
+
+
+def _linux_prctl():
+    """libc's prctl, or None where there is none (not Linux)."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        return ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None
+
+
+_PRCTL = _linux_prctl()
+
+
+def dies_with(parent: int, sig: int = signal.SIGKILL):
+    """A `preexec_fn` for a child of process `parent`: `sig` when `parent` dies (PR_SET_PDEATHSIG),
+    and at once when it has already died between the fork and this call. (The signal follows the
+    thread that forks: every caller waits for its engine in that thread.) Called in a process,
+    `dies_with(os.getppid(), sig)()` gives that process `sig` when its parent dies."""
+    def preexec():
+        if _PRCTL is not None:
+            _PRCTL(PR_SET_PDEATHSIG, int(sig))
+        if os.getppid() != parent:
+            os.kill(os.getpid(), sig)
+    return preexec
+
+
+def _stat(pid: int) -> list[str] | None:
+    """The fields of /proc/<pid>/stat after the command (state, ppid, pgrp, session, ...; the
+    start time is [19]); None if there is no such process."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return text.rsplit(")", 1)[1].split()
+
+
+def is_snakemake(pid: int) -> bool:
+    """Whether process `pid` runs Snakemake (`snakemake ...`, `python .../bin/snakemake ...` or
+    `python -m snakemake ...`)."""
+    try:
+        args = Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace").split("\0")
+    except OSError:
+        return False
+    return any(Path(a).name == "snakemake" for a in args[:2]) or any(
+        a == "-m" and b == "snakemake" for a, b in zip(args, args[1:]))
+
+
+def workflow_ancestors(pid: int | None = None) -> list[tuple[int, str]]:
+    """The processes of the workflow above process `pid` (this one): its ancestors up to the
+    outermost Snakemake among them, as (pid, start time); none when no Snakemake runs it. The
+    shell or terminal that started Snakemake is not among them (`nohup snakemake &` outlives it)."""
+    chain, outermost = [], 0
+    fields = _stat(os.getpid() if pid is None else pid)
+    parent = int(fields[1]) if fields else 0
+    while parent > 1:
+        fields = _stat(parent)
+        if fields is None:
+            break
+        chain.append((parent, fields[19]))
+        if is_snakemake(parent):
+            outermost = len(chain)
+        parent = int(fields[1])
+    return chain[:outermost]
+
+
+#: The guard (`EngineGuard`): a process started with `python -I -S -c GUARD <job pid> <pid:start>...`,
+#: the job being the process that runs engines and pid:start the processes of its workflow
+#: (`workflow_ancestors`). Its stdin is a pipe from the job: "+<sid>" when an engine session starts,
+#: "-<sid>" when it is over. It SIGKILLs every process of the live sessions
+#: - when the pipe closes: the job has ended, or was killed (kill -9 included), and
+#: - when a process of the workflow has ended (kill -9 of Snakemake): the job and the workflow's
+#:   processes between it and the one that ended first, so that nothing of the job writes after
+#:   the workflow is gone;
+#: then it exits. It polls the workflow five times a second; its own session is its own.
+GUARD = r'''# engines/engine_process.py: the engine guard of one job
+import os, select, signal, sys, time
+signal.signal(signal.SIGINT, signal.SIG_IGN)
+job = int(sys.argv[1])
+workflow = [tuple(a.split(":")) for a in sys.argv[2:]]
+
+
+def stat(pid):
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            text = f.read()
+    except OSError:
+        return None
+    return text[text.rindex(")") + 2:].split()
+
+
+def alive(pid, start):
+    f = stat(pid)
+    return f is not None and f[0] not in ("Z", "X") and f[19] == start
+
+
+def kill(pid):
+    try:
+        os.kill(pid, signal.SIGKILL)
+    except OSError:
+        pass
+
+
+def kill_sessions(sids):
+    me = os.getpid()
+    for _ in range(50):
+        left = False
+        for name in os.listdir("/proc"):
+            f = stat(int(name)) if name.isdigit() and int(name) != me else None
+            if f and f[0] not in ("Z", "X") and (int(f[2]) in sids or int(f[3]) in sids):
+                kill(int(name))
+                left = True
+        if not left:
+            return
+        time.sleep(0.02)
+
+
+sessions, pending = set(), b""
+job_start = (stat(job) or [""] * 20)[19]
+while True:
+    if os.getppid() != job:
+        kill_sessions(sessions)
+        break
+    ended = next((i for i, (pid, start) in enumerate(workflow) if not alive(int(pid), start)), None)
+    if ended is not None:
+        if alive(job, job_start):
+            kill(job)
+        for pid, start in workflow[:ended]:
+            if alive(int(pid), start):
+                kill(int(pid))
+        kill_sessions(sessions)
+        break
+    if select.select([0], [], [], 0.2 if workflow else None)[0]:
+        data = os.read(0, 4096)
+        if not data:
+            kill_sessions(sessions)
+            break
+        *lines, pending = (pending + data).split(b"\n")
+        for line in lines:
+            (sessions.add if line[:1] == b"+" else sessions.discard)(int(line[1:]))
+'''
+
+
+class EngineGuard:
+    """This process's guard (`GUARD`), started with its first engine and told of every engine
+    session (`watch`, `forget`). A forked child gets a guard of its own. Where the guard cannot run
+    (no /proc), engines still die with this process (`dies_with`), but not with the workflow."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._pipe: int | None = None  # the write end of the guard's stdin
+        self._owner = 0  # the pid of the process that started the guard
+        self._process: subprocess.Popen | None = None
+        os.register_at_fork(after_in_child=self._forget_in_child)
+
+    def _forget_in_child(self):
+        """In a forked child: the parent's guard is not the child's (and its pipe must close with
+        the parent alone). No lock taken: another thread may have held it at the fork."""
+        if self._pipe is not None:
+            try:
+                os.close(self._pipe)
+            except OSError:
+                pass
+        self._lock, self._pipe, self._process = threading.Lock(), None, None
+
+    def _send(self, line: str) -> None:
+        with self._lock:
+            for _ in range(2):  # a guard that has died is started again once
+                if self._pipe is None or self._owner != os.getpid():
+                    if not self._start():
+                        return
+                try:
+                    os.write(self._pipe, line.encode() + b"\n")
+                    return
+                except OSError:  # the guard is gone (EPIPE)
+                    os.close(self._pipe)
+                    self._pipe = None
+                    if self._process is not None:
+                        self._process.poll()  # reaped
+
+    def _start(self) -> bool:
+        if not sys.executable or not Path("/proc/self/stat").exists():
+            return False
+        read, write = os.pipe()
+        try:
+            args = [f"{pid}:{start}" for pid, start in workflow_ancestors()]
+            self._process = subprocess.Popen([sys.executable, "-I", "-S", "-c", GUARD, str(os.getpid()), *args],
+                                             stdin=read, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                             start_new_session=True)
+        except OSError:
+            os.close(write)
+            return False
+        finally:
+            os.close(read)
+        self._pipe, self._owner = write, os.getpid()
+        return True
+
+    def watch(self, sid: int) -> None:
+        """Kill session `sid` if this process or its workflow ends before `forget(sid)`."""
+        self._send(f"+{sid}")
+
+    def forget(self, sid: int) -> None:
+        self._send(f"-{sid}")
+
+
+#: The guard of this process's engines.
+engine_guard = EngineGuard()
+
+
 @dataclass
 class Finished:
     """How an engine process ended: its exit status (None if killed for its time limit)."""
@@ -137,15 +359,17 @@ def run_logged(cmd: list[str], log: Path, timeout_s: float, cwd=None, env: dict 
 
     If it has not exited after `timeout_s`, its process group gets SIGTERM, then its group and
     session SIGKILL after KILL_GRACE_S; they are SIGKILLed after a normal exit too, so that
-    nothing it started survives. It runs in `engine_environment(env)`, with an Open MPI session
-    folder of its own (OMPI_SESSION_VARIABLE). Returns how it ended."""
+    nothing it started survives. It dies with this process (`dies_with`) and its session with this
+    process or its workflow (`engine_guard`). It runs in `engine_environment(env)`, with an Open
+    MPI session folder of its own (OMPI_SESSION_VARIABLE). Returns how it ended."""
     started = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="ompi-session-") as session_dir, open(log, mode) as out:
         proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=subprocess.STDOUT, stdin=stdin,
                                 env=engine_environment({OMPI_SESSION_VARIABLE: session_dir, **(env or {})}),
-                                start_new_session=True)
-        pgid = proc.pid  # start_new_session: the child leads its own group
+                                start_new_session=True, preexec_fn=dies_with(os.getpid()))
+        pgid = proc.pid  # start_new_session: the child leads its own group and session
         try:
+            engine_guard.watch(pgid)
             returncode = proc.wait(timeout=timeout_s)
         except subprocess.TimeoutExpired:
             returncode = None
@@ -154,12 +378,10 @@ def run_logged(cmd: list[str], log: Path, timeout_s: float, cwd=None, env: dict 
                 proc.wait(timeout=KILL_GRACE_S)
             except subprocess.TimeoutExpired:
                 pass
-        except BaseException:  # e.g. KeyboardInterrupt: do not leave the engine running
+        finally:  # normally, or on e.g. KeyboardInterrupt: nothing of the engine is left running
             kill_all(pgid)
             proc.wait()
-            raise
-        kill_all(pgid)
-        proc.wait()
+            engine_guard.forget(pgid)
     return Finished(returncode, time.perf_counter() - started)
 
 

@@ -6,9 +6,17 @@ Every test is in one tier, by its file (`TIERS`) unless it is marked with a tier
 `unit` needs no engine and starts no workflow (`make test-unit`, on any machine, in under 30 s),
 `engine` runs real engines, `workflow` runs Snakemake (with real engines, and the SLURM cluster
 for test_slurm) or a browser. `make test` runs all three.
+
+A test run leaves nothing running, however it ends: every process a test starts goes through
+tests/processes.py (a session of its own, dying with the test process); pytest and each xdist
+worker, told to stop (SIGTERM, SIGHUP: `timeout`, a killed `make test`), first kill those
+(`processes.stop_all`); a worker dies with pytest (SIGTERM when pytest is gone, PR_SET_PDEATHSIG);
+and the run stops the local SLURM cluster if it started it (`slurm_cluster.release_cluster`).
 """
 
+import atexit
 import os
+import signal
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -20,8 +28,58 @@ os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ
 TIERS = {
     "engine": {"test_engine_*.py", "test_unequal_spheres.py"},
     "workflow": {"test_workflow.py", "test_study_failures.py", "test_slurm.py", "test_resolution.py", "test_builds.py",
-                 "test_readme.py"},
+                 "test_readme.py", "test_killed_workflow.py"},
 }
+
+
+#: The signals that stop a test run cleanly: its processes are killed first (`stop_test_run`).
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+
+def pytest_configure(config):
+    """Name the run (slurm_cluster.TEST_RUN) in pytest's own process; make a worker die with it;
+    stop what the run started on SIGTERM, SIGHUP and at exit."""
+    from engines.engine_process import dies_with
+    from slurm_cluster import TEST_RUN, run_id
+
+    worker = hasattr(config, "workerinput")
+    if worker:
+        dies_with(os.getppid(), signal.SIGTERM)()  # an xdist worker: SIGTERM when pytest is gone
+    else:
+        os.environ[TEST_RUN] = run_id()
+    for sig in STOP_SIGNALS:
+        signal.signal(sig, stop_test_run)
+    atexit.register(finish_test_run)
+
+
+def finish_test_run() -> None:
+    """Kill what this process's tests started and, in pytest's own process, release the cluster."""
+    import processes
+
+    processes.stop_all()
+    if os.environ.get("PYTEST_XDIST_WORKER") is None:
+        from slurm_cluster import TEST_RUN, release_cluster, run_id
+
+        if os.environ.get(TEST_RUN) == run_id():
+            release_cluster()
+
+
+def stop_test_run(signum, frame):
+    """The handler of STOP_SIGNALS: finish the run (`finish_test_run`), then die of the signal. The
+    signals wait meanwhile: a worker stopped with its pytest gets SIGTERM twice (the process
+    group's, then its death signal), and the second must not cut the first's clean-up short."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+    try:
+        finish_test_run()
+    finally:
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
+
+
+def pytest_sessionfinish(session):
+    if not hasattr(session.config, "workerinput"):
+        finish_test_run()
 
 
 def pytest_collection_modifyitems(config, items):

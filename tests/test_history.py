@@ -4,13 +4,13 @@ against the reduced checks and the known defects, end to end with real engines (
 release that cannot be installed, and the same rows through the local SLURM cluster."""
 
 import math
-import subprocess
 import sys
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
+import processes
 from contact_model.keywords import promised_restitution
 from engine_cases import missing, require_engine
 from postprocess.history import (COLUMNS, banner_matches, defect_sentence, history_table, limit_check,
@@ -77,7 +77,7 @@ def test_a_promise_is_its_worst_restitution():
 
 def make_build(spec: str) -> str:
     """`make build <spec>` in the project, as a user types it: the build's banner (first line)."""
-    out = subprocess.run(["make", "-s", "build", spec], cwd=ROOT, capture_output=True, text=True, timeout=900)
+    out = processes.run(["make", "-s", "build", spec], cwd=ROOT, capture_output=True, text=True, timeout=900)
     if out.returncode != 0:
         missing(f"make build {spec} could not install from PyPI: {(out.stdout + out.stderr)[-500:]}")
     return out.stdout.splitlines()[0]
@@ -107,13 +107,14 @@ def history_of(project: Path) -> pd.DataFrame:
     return table
 
 
+@pytest.mark.workflow  # make build and Snakemake: not in make test-unit (conftest.py's tiers)
 def test_history_finds_each_defect_where_it_is_and_names_a_release_it_could_not_install(releases, tmp_path):
     project = copy_workflow(tmp_path / "project")
     if not (ROOT / ".yade-2025" / "yade").exists():
         missing("YADE 2025's Debian 13 root is not installed (Debian 13's LAMMPS goes into it): make yade-2025")
     history = HISTORY.replace("builds: [lammps-2021]", OWN_BUILDS)
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "history", "--config", BUILDS, history],
-                         cwd=project, capture_output=True, text=True, timeout=900)
+    out = processes.run([sys.executable, "-m", "snakemake", "-j2", "history", "--config", BUILDS, history],
+                        cwd=project, capture_output=True, text=True, timeout=900)
     assert out.returncode == 0, out.stderr[-3000:]
     table = history_of(project)
     cell = {(r.release, r.check): r for r in table.itertuples()}
@@ -161,6 +162,7 @@ def test_history_finds_each_defect_where_it_is_and_names_a_release_it_could_not_
     assert "<table>" in (project / "results" / "history" / "history.html").read_text()
 
 
+@pytest.mark.workflow
 @pytest.mark.xdist_group("slurm")  # with the cluster tests: they share its two CPUs
 def test_history_through_slurm_gives_the_local_rows_one_job_per_release(releases, tmp_path):
     from slurm_cluster import jobs_of, require_slurm, run_workflow
@@ -170,8 +172,8 @@ def test_history_through_slurm_gives_the_local_rows_one_job_per_release(releases
     history = HISTORY.replace("releases: {lammps: [2023.8.2, 1999.1.1], kratos: [9.5]}",
                               "releases: {lammps: [2023.8.2], kratos: []}")  # --config merges mappings
     local = copy_workflow(tmp_path / "local")
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "history", "--config", BUILDS, history],
-                         cwd=local, capture_output=True, text=True, timeout=900)
+    out = processes.run([sys.executable, "-m", "snakemake", "-j2", "history", "--config", BUILDS, history],
+                        cwd=local, capture_output=True, text=True, timeout=900)
     assert out.returncode == 0, out.stderr[-3000:]
     project = copy_workflow(tmp_path / "slurm")
     since = now()

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import pytest
 
+import processes
 from engine_cases import missing, require_engine
 from slurm_cluster import (CLUSTER, SLURM_CONF, finish, jobs_of, queued_jobs_of, require_slurm, run_workflow, slurm,
                            start_workflow, wait_for)
@@ -47,8 +48,8 @@ def config(*builds, extra=()):
 
 def local_study(project: Path, *args) -> bytes:
     """The same study run locally (`snakemake -j2`): its summary.csv."""
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "all", *args], cwd=project, capture_output=True,
-                         text=True, timeout=600)
+    out = processes.run([sys.executable, "-m", "snakemake", "-j2", "all", *args], cwd=project, capture_output=True,
+                        text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-3000:]
     return (project / "results" / "summary.csv").read_bytes()
 

@@ -9,7 +9,8 @@
 #
 # (`make slurm-up` / `make slurm-down` call it.) Everything it writes lives in $SLURM_LOCAL_DIR
 # (default .slurm/ in the project, ignored by git): config, munge key, database, spool, logs and
-# pid files. No systemd, no /etc: every daemon is started by hand with its config path, as the
+# pid files; tests/ holds the leases of the test runs that use the cluster (tests/slurm_cluster.py:
+# a test run stops the cluster only if it started it). No systemd, no /etc: every daemon is started by hand with its config path, as the
 # user who runs this script (root in CI). SLURM's clients (sbatch, squeue, sacct, and so the
 # Snakemake plugin) find the cluster through SLURM_CONF=$SLURM_LOCAL_DIR/etc/slurm.conf.
 #
@@ -293,6 +294,9 @@ all_running() {
 
 up() {
   require
+  # Anyone but a test run (tests/slurm_cluster.py, which sets HERTZ_TEST_RUN) takes the cluster over
+  # from the tests: their leases go, and no test run stops it when it ends.
+  [ -n "${HERTZ_TEST_RUN:-}" ] || rm -f "$STATE"/tests/run-*
   if all_running && sinfo -h -n "$NODE" -o %t 2>/dev/null | grep -qx idle; then
     say "already running (node $NODE idle; state in $STATE)"
   else
