@@ -22,6 +22,7 @@ from pathlib import Path
 
 from .engine_process import line_buffered, run_logged
 from .codes import CODES
+from .errors import not_found
 
 #: Time limit of a version query [s]: the engine only starts and reads an empty input (~0.4 s).
 VERSION_TIMEOUT_S = 60.0
@@ -85,9 +86,8 @@ def check_build(build: Build, timeout_s: float = VERSION_TIMEOUT_S) -> str:
     """The build's version banner (e.g. 'LAMMPS (22 Jul 2025 - Update 4)'), read from the
     executable; BuildError when it is missing, is another engine, or prints no version."""
     exe = shutil.which(build.executable)
-    if exe is None:
-        where = "does not exist" if os.sep in build.executable else "is not on PATH"
-        raise BuildError(f"build {build.id!r} ({build.code}): the executable {build.executable!r} {where}; "
+    if exe is None:  # what was looked up first (PATH's folders, or the path), then how to install the code
+        raise BuildError(f"build {build.id!r} ({build.code}): {not_found(build.executable)}; "
                          f"{CODES[build.code].install_hint}, or point the build's `executable` at your own build")
     try:
         text = query_version(exe, build.code, timeout_s)

