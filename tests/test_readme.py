@@ -6,11 +6,11 @@ unnoticed.
 """
 
 import re
-import subprocess
 from pathlib import Path
 
 import pytest
 
+import processes
 from engine_cases import VERSIONS, require_default_builds
 from workflow_copy import copy_workflow
 
@@ -62,7 +62,7 @@ def test_the_readme_user_path_runs_as_written(tmp_path):
     assert len(run) == 7, run  # eta for K, eta for a restitution, the time step, the case, your build, the
     # comparison, the calibration
     for command in run:
-        out = subprocess.run(["bash", "-c", command], cwd=project, capture_output=True, text=True, timeout=900)
+        out = processes.run(["bash", "-c", command], cwd=project, capture_output=True, text=True, timeout=900)
         assert out.returncode == 0, f"{command}\n{out.stdout[-3000:]}\n{out.stderr[-3000:]}"
         if "viscosity_for_k" in command:
             assert "mine (cases/mine.yaml): the viscosity eta giving each K" in out.stdout

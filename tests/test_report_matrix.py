@@ -303,10 +303,10 @@ def test_report_in_a_browser(study, tmp_path):
     """The report renders in a headless browser (Debian's chromium; CI installs it) and the
     browser's DOM holds the matrix with one row per build."""
     import shutil
-    import subprocess
 
     from postprocess.report import ReportInputs, write_report
 
+    import processes
     from engine_cases import missing
 
     browser = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -315,9 +315,9 @@ def test_report_in_a_browser(study, tmp_path):
     table, checks, not_available = study
     write_report(ReportInputs(table, checks, verdict_of(checks, "0" * 64, TOL), builds=BUILDS,
                               not_available=not_available), tmp_path)
-    out = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                          "--dump-dom", (tmp_path / "report.html").as_uri()], capture_output=True, text=True,
-                         timeout=120)
+    out = processes.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                         "--dump-dom", (tmp_path / "report.html").as_uri()], capture_output=True, text=True,
+                        timeout=120)
     matrices = [t for t in parse_tables(out.stdout) if t["class"] == "matrix"]
     assert len(matrices) == 1 and [r[0][2] for r in matrices[0]["rows"][3:]] == BUILDS
 

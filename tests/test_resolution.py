@@ -24,6 +24,7 @@ import sys
 import pandas as pd
 import pytest
 
+import processes
 from engine_cases import require_engine
 from workflow_copy import copy_workflow
 
@@ -119,9 +120,9 @@ def study(tmp_path_factory):
                                           relative=RELATIVE, edit=edit))
         wrapper.chmod(0o755)
         builds.append(f"{{id: {name}, code: {code}, executable: {wrapper}}}")
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "all", "--config", f"builds=[{', '.join(builds)}]",
-                          "laws=[viscoelastic, viscoelastic_clipped, elastic]", "extras=[]", "compare_builds=[]"],
-                         cwd=root, capture_output=True, text=True, timeout=900, env={**os.environ})
+    out = processes.run([sys.executable, "-m", "snakemake", "-j2", "all", "--config", f"builds=[{', '.join(builds)}]",
+                         "laws=[viscoelastic, viscoelastic_clipped, elastic]", "extras=[]", "compare_builds=[]"],
+                        cwd=root, capture_output=True, text=True, timeout=900, env={**os.environ})
     checks = pd.read_csv(root / "results" / "checks.csv")
     return out, checks, pd.read_csv(root / "results" / "summary.csv"), root
 

@@ -21,6 +21,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+import processes
 from engine_cases import missing, require_engine
 from workflow_copy import copy_workflow
 
@@ -112,8 +113,8 @@ def kill_the_hung_engine(pid_file: Path) -> None:
 
 
 def study(project, *config, env=None, target="all", extra=()):
-    return subprocess.run([sys.executable, "-m", "snakemake", "-j2", target, *extra, "--config", *SMALL, *config],
-                          cwd=project, capture_output=True, text=True, timeout=600, env=env)
+    return processes.run([sys.executable, "-m", "snakemake", "-j2", target, *extra, "--config", *SMALL, *config],
+                         cwd=project, capture_output=True, text=True, timeout=600, env=env)
 
 
 def verdict_files(project):
@@ -142,9 +143,9 @@ def test_a_study_of_one_build_one_case_one_geometry_and_one_law_passes_with_ever
         if path.is_file() and not target.exists():
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copy(path, target)
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-j2", "all", "--config", "cases=cases/steel.yaml",
-                          "builds=[{id: lammps-mine, code: lammps, executable: lmp}]", f"laws=[{law}]"],
-                         cwd=project, capture_output=True, text=True, timeout=600)
+    out = processes.run([sys.executable, "-m", "snakemake", "-j2", "all", "--config", "cases=cases/steel.yaml",
+                         "builds=[{id: lammps-mine, code: lammps, executable: lmp}]", f"laws=[{law}]"],
+                        cwd=project, capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-3000:]
     checks = 2 if law == "viscoelastic" else 1  # criteria x0 and F0, or x0 alone; x one geometry
     assert (project / "results" / "gate.txt").read_text().startswith(f"PASS: {checks * 3} ")
@@ -340,8 +341,8 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
     for name in ("gate.txt", "verdict.json", "junit.xml", "report.md", "report.html"):
         (project / "results" / name).write_text("PASS\n")
     env = faulty_lammps(tmp_path, "hang")
-    proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "all", "--config", *SMALL], cwd=project,
-                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    proc = processes.start([sys.executable, "-m", "snakemake", "-j2", "all", "--config", *SMALL], cwd=project,
+                           env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     pid_file = project / "results" / "steel" / "lammps" / "runs" / "hang.pid"
     try:
         wait_for_the_hung_engine(pid_file, proc)
@@ -360,8 +361,8 @@ def test_killed_run_leaves_no_verdict_and_the_documented_recovery_works(project,
     locked = study(project, extra=["--rerun-incomplete"])
     assert locked.returncode != 0 and "LockException" in locked.stderr
     # The README's recovery: unlock, then rerun what was left incomplete.
-    unlock = subprocess.run([sys.executable, "-m", "snakemake", "--unlock"], cwd=project, capture_output=True,
-                            text=True, timeout=120)
+    unlock = processes.run([sys.executable, "-m", "snakemake", "--unlock"], cwd=project, capture_output=True,
+                           text=True, timeout=120)
     assert unlock.returncode == 0, unlock.stderr
     again = study(project, extra=["--rerun-incomplete"])
     assert again.returncode == 0, again.stderr[-3000:]
@@ -377,9 +378,9 @@ def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tm
     assert ok.returncode == 0, ok.stderr[-3000:]
     results = project / "results"
     matrix = (results / "report.md").read_text().split("## Engines")[1]
-    proc = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "steel", "--forcerun", "run_engine",
+    proc = processes.start([sys.executable, "-m", "snakemake", "-j2", "steel", "--forcerun", "run_engine",
                              "--config", *SMALL], cwd=project, env=faulty_lammps(tmp_path, "hang"),
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     pid_file = results / "steel" / "lammps" / "runs" / "hang.pid"
     try:
         wait_for_the_hung_engine(pid_file, proc)
@@ -414,8 +415,8 @@ def test_an_interrupted_case_run_is_no_failure_and_continues_to_pass(project, tm
         alive = False
     assert not alive, "the interrupted engine process outlived the workflow"
 
-    again = subprocess.run(command.replace("snakemake", f"{sys.executable} -m snakemake", 1), shell=True,
-                           cwd=project, capture_output=True, text=True, timeout=600)
+    again = processes.run(command.replace("snakemake", f"{sys.executable} -m snakemake", 1), shell=True,
+                          cwd=project, capture_output=True, text=True, timeout=600)
     assert again.returncode == 0, again.stderr[-3000:]
     assert (results / "steel" / "gate.txt").read_text().startswith("PASS: 9 ")
     assert json.loads((results / "verdict.json").read_text())["verdict"] == "STALE"  # a case target leaves it so
@@ -441,9 +442,9 @@ def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_
     assert regressions.change.min() > 1e5  # ~1e-9 -> 1e-2
     assert not (project / "results" / "compare" / "gate.txt").exists()
     # The other way round (baseline: the faulty build) the same checks are fixes, and it passes.
-    back = subprocess.run([sys.executable, "-m", "postprocess.compare", str(project / "results"),
+    back = processes.run([sys.executable, "-m", "postprocess.compare", str(project / "results"),
                            str(baseline / "results"), "--out", str(tmp_path / "back")], cwd=ROOT,
-                          capture_output=True, text=True, timeout=120)
+                         capture_output=True, text=True, timeout=120)
     assert back.returncode == 0 and "0 regressions, 4 fixes" in back.stdout
 
 
@@ -531,9 +532,9 @@ def test_a_case_verdict_that_fails_leaves_no_pass_of_its_case(project):
     plots = case / "plots"
     figure = (plots / "timestep.png").read_bytes()
     read_only = ["bwrap", "--bind", "/", "/", "--dev-bind", "/dev", "/dev", "--ro-bind", str(plots), str(plots)]
-    out = subprocess.run([*read_only, sys.executable, "-m", "snakemake", "-j2", "steel", "--config", *SMALL,
+    out = processes.run([*read_only, sys.executable, "-m", "snakemake", "-j2", "steel", "--config", *SMALL,
                           "tolerance={T: 1e-9, A: 1e-6, eps: 1e-6}"], cwd=project, capture_output=True, text=True,
-                         timeout=600)
+                        timeout=600)
     assert out.returncode != 0
     said = "OSError: [Errno 30] Read-only file system: 'results/steel/plots/timestep.png'"
     assert f"case_verdict (case steel): {said}" in out.stderr

@@ -4,13 +4,13 @@ cluster itself in test_slurm)."""
 
 import re
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 import yaml
 
+import processes
 from engine_cases import require_default_builds, require_engine
 from workflow_copy import copy_workflow
 
@@ -20,7 +20,7 @@ SLURM_SNAKEMAKE = ROOT / ".venv-slurm" / "bin" / "snakemake"  # the SLURM execut
 
 
 def snakemake(*args, cwd=ROOT):
-    return subprocess.run([*SNAKEMAKE, *args], cwd=cwd, capture_output=True, text=True, timeout=600)
+    return processes.run([*SNAKEMAKE, *args], cwd=cwd, capture_output=True, text=True, timeout=600)
 
 
 @pytest.fixture
@@ -124,8 +124,8 @@ def test_slurm_profile_dry_run_gives_every_engine_job_its_limits():
     require_default_builds()
     if not SLURM_SNAKEMAKE.exists():
         pytest.skip("Snakemake's SLURM executor plugin is not installed; install it with: make slurm-venv")
-    out = subprocess.run([str(SLURM_SNAKEMAKE), "-n", "--profile", "profiles/slurm", "all", "--forceall"], cwd=ROOT,
-                         capture_output=True, text=True, timeout=600)
+    out = processes.run([str(SLURM_SNAKEMAKE), "-n", "--profile", "profiles/slurm", "all", "--forceall"], cwd=ROOT,
+                        capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr
     jobs = re.split(r"\n(?=\[.*\]\n(?:local)?rule )", out.stdout)
     engine_jobs = [j for j in jobs if "\nrule run_engine:" in j]
