@@ -22,7 +22,8 @@ kn the law's own stiffness (DEM_D_*_CL.cpp, CalculateViscoDampingForce); none ha
 viscoelastic delta^{1/2} d(delta)/dt force, and the dissipative force cannot be added from
 Python inside the force loop. So the laws 'viscoelastic' and 'viscoelastic_clipped' are not
 available (`engines.codes`); 'elastic' runs the law with restitution 1 (gamma = 0: Hertz alone,
-gated) and 'default' with the matched restitution (clipped at zero: criterion F0, compared).
+gated) and 'default' with the matched restitution (clipped at zero: criterion F0, gated against its own
+equation).
 
 The process runs with OMP_NUM_THREADS=1 (a two-body problem; with more threads Kratos's OpenMP
 loops spin and a run takes ten times longer) and PYTHONUNBUFFERED, its output streamed to

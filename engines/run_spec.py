@@ -11,16 +11,21 @@ Contact laws:
 - ``viscoelastic_clipped``: the same force clipped at zero (the bodies separate where the force
   vanishes: F0 physics). Represents criterion F0 only.
 - ``elastic``: the same contact with eta = 0, Hertz alone (K = 0: T, A and eps = 1 are known
-  exactly). Every code can express it, so it is the one law gated in every engine, including
-  those that cannot express the viscoelastic force (`engines.codes`, ``unavailable``). The
+  exactly). Every code can express it, so it is the one law of the model every engine runs (and
+  is gated in), including those that cannot express the viscoelastic force (`engines.codes`,
+  ``unavailable``). The
   trajectory has no tail, so x0 and F0 coincide; it stands for x0.
 - ``default``: what a user gets out of the box, the code's restitution keyword
   (`engines.codes` ``keyword``: LIGGGHTS ``model hertz``, YADE Hertz-Mindlin with ``en``, LAMMPS
   ``damping tsuji``, ...), told a restitution (`engines.plan`: the viscoelastic reference eps at K =
   default_law_match_K, or the case's own); gated like the others, against its own equation (its reference row
   is `contact_model.keywords.keyword_reference`), under the criterion its force allows.
-- a keyword law (``betan``, ``coeff_restitution``: `contact_model.laws`): another keyword of one
-  code, run and gated as ``default`` is (`RunSpec.keyword`).
+- a keyword law (``betan``, ``coeff_restitution``, ``velocity``, ``mass_velocity``, ``en_vn``:
+  `contact_model.laws`): another keyword of one code, run and gated as ``default`` is, against its
+  own equation (`RunSpec.keyword`).
+
+Every law is gated, each against its own equation; what a keyword restitutes against what it was
+told (its promise) is reported, not gated.
 """
 
 from __future__ import annotations
@@ -59,7 +64,7 @@ class RunSpec:
     pair: ContactPair
     velocity: float
     time_step_factor: float = 1000.0  # dt ~ T_e / factor (aligned: `time_step`)
-    matched_restitution: float | None = None  # for law 'default': the eps it is tuned to
+    matched_restitution: float | None = None  # for a keyword law: the restitution e it is told
     label: str = ""  # appended to the name, for runs that differ in something else
     #: The reference solution at this run's K (a `reference.CollisionTable` row), solved once
     #: for the whole case by the plan and handed on; None: solved here when needed.

@@ -3,8 +3,12 @@
 The verdict it shows is decided in `postprocess.gate` (which also writes verdict.json and the
 JUnit XML); the report only presents it, FAIL at the top with every failing check named.
 
-Only the viscoelastic laws are gated (the model under test); the out-of-the-box laws and the
-paper's series are compared, not gated: where they depart from the reference, that is a finding.
+Every law is gated against its own equation: the model's laws (viscoelastic, clipped, elastic) against
+the viscoelastic model, each keyword law (`default`, each code's own restitution keyword, and the
+other keywords) against the equation its code computes from what it is told. What a keyword
+restitutes against the e it is told (its promise) and the paper's series are reported, not gated:
+where they depart, that is a finding. The tangential half of the contact (tangential force,
+friction, rotation, oblique impacts) is not validated, and every report says so (`NOT_VALIDATED`).
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from contact_model import GATED_LAWS, MODEL_LAWS
+from contact_model import CRITERIA, GATED_LAWS, LAWS, MODEL_LAWS
 from contact_model.laws import KEYWORD_LAWS
 from contact_model.keywords import KEYWORDS, promised_restitution
 from engines.codes import CODES, integrators, keyword_of
@@ -35,6 +39,10 @@ from .report_resolution import ladder_settings, map_section, plot_ladders, resol
 
 #: Where the matrices go in the report's text (Markdown in report.md, HTML tables in report.html).
 MATRIX = "@@gated-matrix@@"
+#: What the study does not validate, said under every report's verdict (docs/verdict.md).
+NOT_VALIDATED = ("**Not validated here**: the tangential half of the contact, i.e. the tangential force, friction, "
+                 "rotation and oblique impacts. Every run is a head-on collision along the line of centres (the "
+                 "normal force alone); a PASS says nothing about them (docs/verdict.md).")
 
 
 def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:
@@ -220,27 +228,62 @@ PHYSICAL = ("T", "delta_max", "F_max", "A", "eps")
 HERTZ_CONSTANT = HERTZ_TAU * (15.0 / 16.0) ** 0.4
 
 
-def _physical_section(limits: pd.DataFrame) -> list[str]:
-    """The case's physical results: per geometry, each law, criterion and velocity, the reference's
-    T, delta_max, F_max, A and eps in readable units, and the engines' (dt -> 0) largest relative
-    difference from it over the builds; the elastic rows beside Hertz's closed forms."""
+def _physical_section(limits: pd.DataFrame, builds=None) -> list[str]:
+    """The case's physical results: per geometry, a row per law, criterion and velocity with the
+    reference's T, delta_max, F_max, A and eps in readable units, each with the engines' (dt -> 0)
+    largest relative difference from it over the row's builds; the elastic rows beside Hertz's
+    closed forms.
+
+    A model law's equation is the same in every build: one row for all of them. A keyword law
+    (`default` and the other keywords) runs in each build the equation of that build's keyword,
+    told the same e: one row per keyword (naming its builds), with that equation's reference (its
+    T, delta_max, F_max, A and eps at what it was told, summary.csv's ``*_ref``), what was asked
+    and that the gate checks the keyword against its own equation. Builds whose references differ
+    never share a row."""
     if not len(limits) or "delta_max_ref" not in limits.columns:
         return []
     lines = ["## Physical results", "",
-             "The reference solution of each law in physical units, and beside each value the largest relative "
-             "difference of the engines' ladder limits (dt -> 0) over the builds: T the contact time, delta_max the "
-             "largest overlap, F_max the largest normal force, A = pi R* delta_max, eps the restitution (under the "
-             "criterion of the row).", ""]
+             "Each row is the reference solution of the equation its builds run, in physical units, and beside "
+             "each value the largest relative difference of those builds' ladder limits (dt -> 0) from it: T the "
+             "contact time, delta_max the largest overlap, F_max the largest normal force, A = pi R* delta_max, eps "
+             "the restitution (under the criterion of the row). The viscoelastic laws and the elastic one are one "
+             "equation in every build: one row. A keyword law (`default`: each code's own restitution keyword, and "
+             "the other keywords) runs in each build its keyword's own equation, told e: a row per keyword, with that "
+             "equation's T, delta_max, F_max, A and eps at what it was told; the engines are gated against that "
+             "equation, not against e (what the equation restitutes against e is the keyword's promise: "
+             "docs/keywords.md). The coefficient is the viscoelastic K of the row, or the b (c, K) of the keyword's "
+             "own equation.", ""]
+    order = build_order(builds, limits)
+    everyone = [b for b in order if b in set(limits.build.astype(str))]
     for geometry, g in limits.groupby("geometry", sort=False):
+        keyword = [keyword_of(law, engine) if law in LAWS else None for law, engine in zip(g.law, g.engine)]
+        told = g.matched_restitution if "matched_restitution" in g.columns else pd.Series(math.nan, index=g.index)
+        # A row: one law, criterion, velocity and K; a keyword law's also one keyword and told e; and never
+        # two references (T, delta_max, F_max, A and eps of the reference, to 9 digits).
+        refs = [tuple(f"{float(v):.9g}" for v in r) for r in g[[f"{q}_ref" for q in PHYSICAL]].to_numpy()]
+        keys = pd.Series(list(zip(g.law, [k or "" for k in keyword], g.criterion, g.V, g.K,
+                                  [f"{t:.12g}" if pd.notna(t) else "" for t in told], refs)), index=g.index)
         rows = []
-        for (law, criterion, V), s in g.groupby(["law", "criterion", "V"], sort=False):
+        for key, s in g.groupby(keys, sort=False):
+            law, name, criterion, V, K, _, _ = key
             r = s.iloc[0]
-            row = {"law": law, "criterion": criterion, "V [m/s]": f"{V:.6g}", "K": f"{r.K:.4g}"}
+            members = [b for b in order if b in set(s.build.astype(str))]
+            every = len(everyone) > 1 and members == everyone
+            row = {"law": law + (f" `{name}`" if name else ""),
+                   "builds": f"all {len(everyone)}" if every else ", ".join(members),
+                   "criterion": criterion, "V [m/s]": f"{V:.6g}",
+                   "coefficient": _coefficient(name, float(r.matched_restitution) if name else math.nan, K)}
             for q in PHYSICAL:
                 worst = s[f"err_{q}"].abs().max() if f"err_{q}" in s else float("nan")
                 row[q] = readable(q, float(r[f"{q}_ref"])) + (f" (±{worst:.0e})" if pd.notna(worst) else "")
-            rows.append(row)
-        lines += [f"### {geometry}", "", _md_table(pd.DataFrame(rows)), ""]
+            row["asked"] = _asked(name, float(r.matched_restitution), float(r.eps_ref)) if name else "-"
+            sort = (LAWS.index(law) if law in LAWS else len(LAWS), min(order.index(b) for b in members),
+                    CRITERIA.index(criterion) if criterion in CRITERIA else len(CRITERIA), V, K)
+            rows.append((sort, row))
+        table = pd.DataFrame([row for _, row in sorted(rows, key=lambda item: item[0])])
+        if not any(keyword):  # no keyword law: nothing was asked but the case's viscosity
+            table = table.drop(columns="asked")
+        lines += [f"### {geometry}", "", _md_table(table), ""]
         elastic = g[g.law == "elastic"]
         if len(elastic):
             r = elastic.iloc[0]
@@ -251,6 +294,26 @@ def _physical_section(limits: pd.DataFrame) -> list[str]:
                               "sqrt(R*) delta_max^(3/2) (= (5/4) M* V^2 / delta_max) and eps = 1: the elastic row's "
                               "reference."), ""]
     return lines
+
+
+def _coefficient(keyword: str, told: float, K: float) -> str:
+    """The coefficient of a physical-results row's equation: the viscoelastic K of a model law's
+    row, the b (c; K of a Brilliantov keyword) a keyword's code computes from what it was told."""
+    if not keyword:
+        return f"K = {K:.4g}"
+    k = KEYWORDS[keyword]
+    return f"{k.damping_form.symbol} = {k.b(k.told_for(told)):.4g}"
+
+
+def _asked(keyword: str, told: float, eps: float) -> str:
+    """What a keyword's row was asked for, and that the gate checks its own equation: the e it was
+    told (as a damping ratio or a dashpot's eta_n where the code takes that), and how far its
+    equation's eps is from e (its promise)."""
+    k = KEYWORDS[keyword]
+    how = {"beta": f" as betan = {k.told_for(told):.6g} (Thornton's beta of e)",
+           "eta": " as the eta_n restituting it at this V (x0)"}.get(k.told, "")
+    promise = "" if k.told == "eta" else f"; its equation's eps - e = {eps - told:+.2e}"
+    return f"e = {told:.6g}{how}; gated against its own equation{promise}"
 
 
 def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
@@ -279,8 +342,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     """Write report.md, report.html and the plots of `inputs` into out_dir (the plots in
     `workers` processes, `postprocess.report_plots.start_drawing`).
 
-    The gated laws are shown by their ladders' limits (summary rows with dt = 0), the
-    out-of-the-box laws by their runs.
+    Every law is gated: its results are shown by its ladders' limits (summary rows with dt = 0),
+    its rungs in the ladders' and the map's figures.
     """
     i = inputs
     table, checks, verdict, builds, not_available = i.table, i.checks, i.verdict, i.builds, i.not_available
@@ -328,6 +391,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
         lines += [sentence, ""]
     if verdict["verdict"] != "PASS":
         lines += ["Failing checks:", ""] + [f"- {f}" for f in verdict["failures"]] + [""]
+    lines += [NOT_VALIDATED, ""]
     lines += [f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `{inputs.folder}/summary.csv` "
               f"({len(full) - len(limits)} rows of engine runs, one per run and end-of-collision criterion, and "
               f"{len(limits)} of ladder limits, dt = 0; sha256 {verdict['summary_sha256'][:12]}…) and "
@@ -335,7 +399,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
               "check).", ""]
     lines += _parts_section(inputs.case_reports, inputs.comparisons, calibration is not None)
     if inputs.folder != "results":  # a case's report opens with its collisions in physical units
-        lines += _physical_section(limits) + list(inputs.timestep)
+        lines += _physical_section(limits, builds) + list(inputs.timestep)
     if has_rows:
         versions = table.groupby(["build", "engine"], sort=False).engine_version.unique()
         lines += ["## Engines", "", "Every engine build (config `builds:`) runs the same cases, laws, geometries and "
@@ -380,8 +444,8 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                       _md_table(pd.DataFrame(list(not_run))[["case", "geometry", "K", "V", "delta_e/R*",
                                                              "reason"]]), ""]
         if len(failed_runs):
-            lines += ["Runs the engine did not complete (a gated law's failure fails its checks above; the "
-                      "out-of-the-box laws are not gated):", "", *_failed_runs_table(failed_runs)]
+            lines += ["Runs the engine did not complete (each fails its law's checks above):", "",
+                      *_failed_runs_table(failed_runs)]
     if convergence is not None:
         lines += _convergence_section(convergence, convergence_orders, convergence_spread)
     if i.largest_steps is not None and len(i.largest_steps):

@@ -61,8 +61,8 @@ def not_available_cells(not_available, law_criteria: Mapping[str, Sequence[str]]
         The ``not_available`` lists of any number of plan.json files: build, engine, law,
         geometry, reason (duplicates across cases are merged).
     law_criteria : mapping
-        The criteria a gated law stands for (`contact_model.LAW_CRITERIA`); laws absent
-        from it (``default``: compared, not gated) are left out.
+        The criteria a law stands for (`contact_model.LAW_CRITERIA`); laws absent from it
+        (``default``, whose criterion is each code's keyword's, not the law's) are left out.
 
     Returns
     -------

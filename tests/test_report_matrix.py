@@ -255,6 +255,10 @@ def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
     assert len(matrices) == 1 and [r[0][2] for r in matrices[0]["rows"][3:]] == BUILDS
     assert 'href="checks.csv"' in html and NA_REASON in html
     assert (tmp_path / "plots" / "errors.png").stat().st_size > 0
+    # What the study does not validate, under the verdict, before anything else
+    head = md.split("\n## ")[0]
+    assert "**Not validated here**: the tangential half of the contact" in head
+    assert "tangential force, friction, rotation and oblique impacts" in head and "Not validated here</strong>" in html
 
 
 @pytest.mark.workflow  # a pool of drawing processes, the report twice: end to end
