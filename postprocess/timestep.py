@@ -27,9 +27,21 @@ quantity, criterion, tolerance, dt_max_s, dt_max_over_T_R, dt_max_over_T_e, dt_s
 err_median, err_max (the last three at ``dt_s``: the user's --dt, else dt_max_s, else the finest
 step scanned), note, T_R_s, T_e_s, V. A value that does not exist is null (never NaN): dt_max_*
 where no step of the scanned grid holds the tolerance, err_* where the collision cannot be read at
-dt_s; ``note`` then says why (else null). A request it cannot answer prints
-``{"error": {"argument": ..., "message": ...}}`` (with ``file`` and ``field`` for a case file's
-mistake) and exits with status 2; the message goes to stderr too.
+dt_s; ``note`` then says why (else null).
+
+dt_max and err_* are against the law's own equation; for a keyword, that is what the keyword
+restitutes as dt -> 0, not what it was told (LAMMPS's tsuji told 0.7 restitutes 0.7777). Its
+promise is answered beside it: every row has keyword, eps_requested (what it was told) and
+eps_delivered (its own equation's restitution, `contact_model.keywords.promised_restitution`); the
+row of eps has promise_min, promise_median, promise_max (eps at dt_s over the phases, divided by
+eps_requested, minus 1) and dt_max_for_request_s (_over_T_R, _over_T_e: the largest dt holding
+|eps / eps_requested - 1| within the tolerance at every phase), null with request_note saying why
+where none exists (where the promise alone exceeds the tolerance, no step meets the request). All
+these keys are null for the model's laws, and the band's and the step's in the rows of T, A,
+delta_max and F_max (a stable schema).
+
+A request it cannot answer prints ``{"error": {"argument": ..., "message": ...}}`` (with ``file``
+and ``field`` for a case file's mistake) and exits with status 2; the message goes to stderr too.
 
 Refused, naming the argument (docs/timestep.md): --K outside (0, 10] or with --velocity (--K picks
 the velocity); --restitution outside (0, 1), or one the law cannot restitute, or with the law
@@ -54,7 +66,7 @@ import numpy as np
 import yaml
 
 from contact_model import CaseError, load_case
-from contact_model.keywords import KEYWORDS, keyword_reference
+from contact_model.keywords import KEYWORDS, keyword_reference, promised_restitution
 from contact_model.laws import LAW_REGISTRY
 from engines.codes import CODES, integrators, keyword_of
 from records.collision_metrics import ExtractionError, collision_metrics
@@ -116,7 +128,12 @@ def max_overlap_ratio() -> float:
 @dataclass(frozen=True)
 class Collision:
     """One geometry's collision in the map's units: its law's damping (power, coefficient, clip),
-    the criterion its quantities end at, its reference characteristics, and the SI scales."""
+    the criterion its quantities end at, its reference characteristics, and the SI scales.
+
+    For a keyword (a law told a restitution): its registry name (`keyword`), the restitution it
+    was asked for (`requested`, [-]) and what its own equation restitutes for it as dt -> 0
+    (`delivered`, [-]: `contact_model.keywords.promised_restitution`, under `criterion`); the
+    three are None for the model's laws."""
 
     law: str
     geometry: str
@@ -130,6 +147,9 @@ class Collision:
     T_R: float
     delta_e: float
     K: float
+    keyword: str | None = None
+    requested: float | None = None
+    delivered: float | None = None
 
     @property
     def tau_end(self) -> float:
@@ -140,7 +160,25 @@ class Collision:
 
 def errors_at(c: Collision, h: float, phases=None) -> dict[str, np.ndarray]:
     """The relative errors of each quantity at map step h (dt V / delta_e), one per phase (NaN
-    where the collision cannot be read at that step: too few samples in contact)."""
+    where the collision cannot be read at that step: too few samples in contact).
+
+    Parameters
+    ----------
+    c : Collision
+        The collision.
+    h : float
+        The map's step, dt V / delta_e [-].
+    phases : array_like or None
+        The contact's start phases on the step grid (fractions of a step); default PHASES of
+        them, (k + 1/2) / PHASES.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        {quantity: error per phase} for `QUANTITIES`, each against the law's own equation (the
+        reference row of `c`); for a keyword also ``eps_request``: eps / `Collision.requested`
+        - 1, the restitution at that step against what the keyword was asked for [-].
+    """
     phases = (np.arange(PHASES) + 0.5) / PHASES if phases is None else np.asarray(phases)
     r = c.reference
     tau_ref = r["tau_0"] if c.criterion == "x0" else r["tau_f"]
@@ -151,7 +189,7 @@ def errors_at(c: Collision, h: float, phases=None) -> dict[str, np.ndarray]:
     if steps > MAX_STEPS:
         raise AdvisorError(f"a step of {h:.3g} delta_e / V needs {steps:.3g} steps over the {c.geometry} contact, more "
                            f"than the {MAX_STEPS:,} the advisor replays", "--dt")
-    out = {q: np.full(len(phases), np.nan) for q in QUANTITIES}
+    out = {q: np.full(len(phases), np.nan) for q in QUANTITIES + (("eps_request",) if c.requested is not None else ())}
     for k, phase in enumerate(phases):
         rec = replay(c.coefficient, h, steps, start_phase=float(phase), gap_steps=GAP_STEPS, clipped=c.clipped,
                      power=c.power)
@@ -164,6 +202,8 @@ def errors_at(c: Collision, h: float, phases=None) -> dict[str, np.ndarray]:
         out["A"][k] = out["delta_max"][k] = m.delta_max / r["x_max"] - 1.0
         out["F_max"][k] = m.force_max / r["force_max"] - 1.0
         out["eps"][k] = eps / eps_ref - 1.0 if eps_ref > 0 else np.nan
+        if c.requested is not None:
+            out["eps_request"][k] = eps / c.requested - 1.0
     return out
 
 
@@ -182,14 +222,17 @@ def finest_step(c: Collision) -> float | None:
     return float(min(within)) if within else None
 
 
-def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None = None) -> dict[str, float]:
+def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None = None,
+                 quantities: tuple[str, ...] = QUANTITIES) -> dict[str, float]:
     """{quantity: dt_max / T_R}: the largest dt keeping |error| <= tolerance at every phase. The
     grid `GRID_OVER_T_R` is scanned from its coarsest step down (a step that cannot be read
     fails); dt_max lies between the first step that passes, with the next CONFIRM finer steps
     passing too, and the step above it, and is refined there by bisection in log dt. 0 where not
     even the finest step of the grid passes (steps needing more than MAX_STEPS are not scanned:
     `finest_step`). `phases` (default: PHASES of them) and `cache` ({dt /
-    T_R: errors}, shared by calls for several tolerances) are passed on to `errors_at`."""
+    T_R: errors}, shared by calls for several tolerances) are passed on to `errors_at`;
+    `quantities`: the keys of `errors_at` answered (``("eps_request",)``: a keyword's restitution
+    against what it was asked for, instead of against its own equation)."""
     to_h = c.T_R * c.V / c.delta_e  # dt / T_R -> h
     cache = {} if cache is None else cache
 
@@ -197,7 +240,7 @@ def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None
         if x not in cache:
             cache[x] = errors_at(c, x * to_h, phases)
         e = cache[x]
-        return {q: bool(np.all(np.abs(e[q]) <= tolerance)) for q in QUANTITIES}
+        return {q: bool(np.all(np.abs(e[q]) <= tolerance)) for q in quantities}
 
     found: dict[str, tuple[float, float | None]] = {}
     candidate: dict[str, tuple[float, float | None, int]] = {}  # q -> (x, the failing step above, passes so far)
@@ -206,7 +249,7 @@ def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None
         if steps_for(c, x * to_h) > MAX_STEPS:
             break
         ok = passes(x)
-        for q in QUANTITIES:
+        for q in quantities:
             if q in found:
                 continue
             if not ok[q]:
@@ -218,11 +261,11 @@ def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None
                 candidate[q] = (x, above, 1)
             if q in candidate and candidate[q][2] > CONFIRM:
                 found[q] = candidate[q][:2]
-        if len(found) == len(QUANTITIES):
+        if len(found) == len(quantities):
             break
         above = x
     out = {}
-    for q in QUANTITIES:
+    for q in quantities:
         good, bad = found.get(q) or (candidate[q][:2] if q in candidate else (None, None))
         if good is None:
             out[q] = 0.0
@@ -372,7 +415,8 @@ def collisions(case, law: str, code: str | None, restitution: float | None, K: f
             row = keyword_reference(keyword, told, 0.0)
             out.append(Collision(law=law, power=k.damping_form.power,
                                  coefficient=row["b"], clipped=k.clipped, criterion=k.criterion, reference=row,
-                                 K=math.nan, **common))
+                                 K=math.nan, keyword=keyword, requested=float(told),
+                                 delivered=promised_restitution(keyword, told), **common))
             continue
         entry = LAW_REGISTRY[law]
         if entry.damping == "none":
@@ -430,6 +474,75 @@ def _unreadable(c: Collision, h: float) -> str:
     return "not readable at that step (the reference restitution is 0)"
 
 
+def _percent(x: float) -> str:
+    """A relative difference as a signed percentage of three significant digits ('+11.1 %')."""
+    return f"{100.0 * x:+.3g} %"
+
+
+def promise_note(c: Collision, tolerance: float, offset_at: float | None = None) -> str | None:
+    """Why no time step meets `tolerance` on the restitution `c` was asked for: its own equation
+    restitutes `Collision.delivered` as dt -> 0, further from the request than the tolerance.
+
+    Parameters
+    ----------
+    c : Collision
+        A keyword's collision (else None is returned).
+    tolerance : float
+        The relative error [-] of eps against the request.
+    offset_at : float or None
+        A step [T_R] at which the map's own error happens to bring eps within the tolerance of
+        the request at every start phase (named as the cancellation it is), or None.
+
+    Returns
+    -------
+    str or None
+        The note; None where the promise is within the tolerance (or `c` is not a keyword).
+    """
+    if c.requested is None or abs(c.delivered / c.requested - 1.0) <= tolerance:
+        return None
+    head = (f"the keyword's own equation restitutes {c.delivered:.4g} when told {c.requested:g} "
+            f"({_percent(c.delivered / c.requested - 1.0)}): ")
+    if offset_at is None:
+        return f"{head}no time step meets a tolerance of {tolerance:g} on the request"
+    return (f"{head}as dt -> 0 no time step meets a tolerance of {tolerance:g} on the request; at {offset_at:.3g} T_R "
+            "the step's own error happens to offset the promise at every start phase, a cancellation that finer "
+            "steps undo")
+
+
+def request_step(c: Collision, tolerance: float, cache: dict | None = None) -> tuple[float | None, str | None]:
+    """The largest dt keeping a keyword's restitution within `tolerance` of what it was asked for.
+
+    Parameters
+    ----------
+    c : Collision
+        A keyword's collision (`Collision.requested` set).
+    tolerance : float
+        The relative error [-] of eps against the request, to hold at every start phase.
+    cache : dict or None
+        {dt / T_R: `errors_at`'s answer}, shared with `largest_step` (and the user's step).
+
+    Returns
+    -------
+    (float or None, str or None)
+        dt_max / T_R [-] against the request (None where none exists), and why it does not, else
+        None. Where the promise alone exceeds the tolerance the error tends to it as dt -> 0 and
+        no step is sought (`promise_note`; a step of `cache` where the map's own error happens
+        to offset it at every phase is named as such); otherwise the grid is scanned as for
+        `largest_step`.
+    """
+    cache = {} if cache is None else cache
+    if promise_note(c, tolerance) is not None:
+        offset = [x for x, e in cache.items() if np.all(np.abs(e["eps_request"]) <= tolerance)]  # NaN: not held
+        return None, promise_note(c, tolerance, max(offset) if offset else None)
+    x = largest_step(c, tolerance, cache=cache, quantities=("eps_request",))["eps_request"]
+    if x > 0:
+        return x, None
+    finest = finest_step(c)
+    return None, (f"no step of the grid down to {finest:.3g} T_R ({finest * c.T_R:.3g} s) holds the tolerance on "
+                  "the request" if finest is not None else
+                  f"no step of the grid is within the {MAX_STEPS:,} steps a replay may take")
+
+
 def advise(c: Collision, tolerance: float, dt_s: float | None) -> list[dict]:
     """The advisor's answer for one geometry: one row per quantity (the --json objects).
 
@@ -447,6 +560,15 @@ def advise(c: Collision, tolerance: float, dt_s: float | None) -> list[dict]:
     -------
     list of dict
         One row per quantity; dt_max_* and err_* are None where they do not exist, ``note`` says why.
+        dt_max_* and err_* are against the law's own equation (a keyword's: what it restitutes as dt
+        -> 0). For a keyword every row names it (``keyword``) and gives ``eps_requested`` (what it
+        was asked for) and ``eps_delivered`` (its own equation's restitution,
+        `contact_model.keywords.promised_restitution`); the row of eps also ``promise_min``,
+        ``promise_median``, ``promise_max`` (eps at ``dt_s`` over the phases / eps_requested - 1)
+        and ``dt_max_for_request_s`` (``_over_T_R``, ``_over_T_e``: the largest dt holding
+        |eps / eps_requested - 1| <= tolerance at every phase, `request_step`), with
+        ``request_note`` saying why it is None. These keys are None in every other row and for
+        the model's laws.
     """
     to_h = c.V / c.delta_e  # seconds -> map step
     cache: dict[float, dict] = {}
@@ -457,6 +579,11 @@ def advise(c: Collision, tolerance: float, dt_s: float | None) -> list[dict]:
         if x not in cache:
             cache[x] = errors_at(c, x * c.T_R * to_h)
         return cache[x]
+
+    def band(e, key):  # min / median / max of the phases' values, None where any phase is unreadable
+        readable = bool(np.isfinite(e).all())
+        return {f"{key}_{w}": float(f(e)) if readable else None
+                for w, f in (("min", np.min), ("median", np.median), ("max", np.max))}
 
     rows = []
     for q in QUANTITIES:
@@ -474,25 +601,56 @@ def advise(c: Collision, tolerance: float, dt_s: float | None) -> list[dict]:
             note = f"{note}; {unread}" if note else unread
         elif x_max is None and dt_s is None and at is not None:
             note += "; the errors are at that finest step"
+        request = {"keyword": c.keyword, "eps_requested": c.requested, "eps_delivered": c.delivered,
+                   "promise_min": None, "promise_median": None, "promise_max": None, "dt_max_for_request_s": None,
+                   "dt_max_for_request_over_T_R": None, "dt_max_for_request_over_T_e": None, "request_note": None}
+        if q == "eps" and c.requested is not None:
+            request.update(band(errors(at)["eps_request"] if at is not None else np.full(PHASES, np.nan), "promise"))
+            x_req, request["request_note"] = request_step(c, tolerance, cache)
+            if x_req is not None:
+                request.update(dt_max_for_request_s=x_req * c.T_R, dt_max_for_request_over_T_R=x_req,
+                               dt_max_for_request_over_T_e=x_req * c.T_R / c.T_e)
         rows.append({"law": c.law, "geometry": c.geometry, "quantity": q, "criterion": c.criterion,
                      "tolerance": tolerance, "dt_max_s": x_max * c.T_R if x_max is not None else None,
                      "dt_max_over_T_R": x_max, "dt_max_over_T_e": x_max * c.T_R / c.T_e if x_max is not None else None,
                      "dt_s": dt_s if dt_s is not None else at * c.T_R if at is not None else None,
-                     "err_min": float(e.min()) if readable else None,
-                     "err_median": float(np.median(e)) if readable else None,
-                     "err_max": float(e.max()) if readable else None,
-                     "note": note, "T_R_s": c.T_R, "T_e_s": c.T_e, "V": c.V})
+                     **band(e, "err"), "note": note, "T_R_s": c.T_R, "T_e_s": c.T_e, "V": c.V, **request})
     return rows
+
+
+def _request_lines(r: dict, dt_given: bool) -> list[str]:
+    """The text of a keyword's promise: the eps row `r`'s request keys, as `_text` prints them."""
+    told, own = r["eps_requested"], r["eps_delivered"]
+    lines = [f"  dt_max and the errors above are against the keyword's own equation ({r['keyword']}: what it "
+             "restitutes as dt -> 0), not against what it was told.",
+             f"  restitution told {told:g}; its own equation restitutes {own:.6g} as dt -> 0 "
+             f"({_percent(own / told - 1.0)} of what it was told)"]
+    where = "your dt" if dt_given else f"dt_max ({r['dt_s']:.4g} s)"
+    if r["promise_max"] is None:
+        lines.append(f"  eps / {told:g} - 1 at {where}: not readable at that step")
+    else:
+        lines.append(f"  eps / {told:g} - 1 at {where}: {r['promise_min']:+.3e} / {r['promise_median']:+.3e} / "
+                     f"{r['promise_max']:+.3e} (min / median / max over the start phases: what the collision "
+                     "delivers against what it was told)")
+    head = f"  largest dt for the request (|eps / {told:g} - 1| <= {r['tolerance']:g} at every start phase): "
+    if r["dt_max_for_request_s"] is None:
+        lines.append(f"{head}none: {r['request_note']}")
+    else:
+        lines.append(f"{head}{r['dt_max_for_request_s']:.4g} s = {r['dt_max_for_request_over_T_R']:.3g} T_R = "
+                     f"{r['dt_max_for_request_over_T_e']:.3g} T_e")
+    return lines
 
 
 def _text(rows: list[dict], cs: list[Collision], dt_given: bool) -> str:
     lines = []
     for c in cs:
-        lines.append(f"{c.geometry}, law {c.law} (criterion {c.criterion}), V = {c.V:.6g} m/s"
+        named = f" = {c.keyword}" if c.keyword is not None and c.keyword != c.law else ""
+        lines.append(f"{c.geometry}, law {c.law}{named} (criterion {c.criterion}), V = {c.V:.6g} m/s"
                      + (f", K = {c.K:.6g}" if math.isfinite(c.K) else "")
                      + f": T_R = {c.T_R:.6g} s (pi R sqrt(rho/G) / (0.1631 nu + 0.8766)), "
                      f"T_e = {c.T_e:.6g} s (Hertz's contact time, {HERTZ_TAU:.6g} delta_e / V)")
-        head = f"  {'quantity':<10} {'dt_max [s]':>12} {'/T_R':>8} {'/T_e':>8}   error at " + \
+        head = f"  {'quantity':<10} {'dt_max [s]':>12} {'/T_R':>8} {'/T_e':>8}   error " + \
+               ("against its own equation " if c.keyword is not None else "") + "at " + \
                ("your dt" if dt_given else "dt_max") + ": min / median / max over the start phases"
         lines.append(head)
         for r in rows:
@@ -506,6 +664,8 @@ def _text(rows: list[dict], cs: list[Collision], dt_given: bool) -> str:
             else:
                 lines.append(f"  {r['quantity']:<10} {r['dt_max_s']:12.4g} {r['dt_max_over_T_R']:8.3g} "
                              f"{r['dt_max_over_T_e']:8.3g}   {band}")
+        lines += [line for r in rows if r["geometry"] == c.geometry and r["quantity"] == "eps"
+                  and r["eps_requested"] is not None for line in _request_lines(r, dt_given)]
         lines.append("")
     lines.append(f"Tolerance {rows[0]['tolerance']:g} (relative), at every one of {PHASES} start phases of the contact "
                  f"on the step grid. Every build of the study advances a collision with one discrete map "
