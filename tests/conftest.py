@@ -3,9 +3,10 @@ also from the copied projects in tmp folders, which hold only the workflow: put 
 on PYTHONPATH, ahead of whatever `pip install -e` the venv points at.
 
 Every test is in one tier, by its file (`TIERS`) unless it is marked with a tier of its own:
-`unit` needs no engine and starts no workflow (`make test-unit`, on any machine, in under 30 s),
+`unit` runs in-process only, no engine and no process of any kind (`make test-unit`, on any
+machine; a unit test that starts a process fails, naming itself: `pytest_runtest_call`),
 `engine` runs real engines, `workflow` runs Snakemake (with real engines, and the SLURM cluster
-for test_slurm) or a browser. `make test` runs all three.
+for test_slurm), a browser, or the project's commands as a user types them. `make test` runs all three.
 
 A test run leaves nothing running, however it ends: every process a test starts goes through
 tests/processes.py (a session of its own, dying with the test process); pytest and each xdist
@@ -28,7 +29,7 @@ os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ
 TIERS = {
     "engine": {"test_engine_*.py", "test_unequal_spheres.py"},
     "workflow": {"test_workflow.py", "test_study_failures.py", "test_slurm.py", "test_resolution.py", "test_builds.py",
-                 "test_readme.py", "test_killed_workflow.py"},
+                 "test_readme.py", "test_killed_workflow.py", "test_cli.py", "test_interrupted_tests.py"},
 }
 
 
@@ -111,3 +112,32 @@ def pytest_collection_finish(session):
         raise pytest.UsageError(f"pytest-xdist's loadgroup did not group {ungrouped[0]} (and {len(ungrouped) - 1} "
                                 "more): this pytest and pytest-xdist do not work together; install the versions "
                                 "pyproject.toml pins (make test)")
+
+
+class UnitTierError(RuntimeError):
+    """A test of the unit tier started a process: it belongs to the engine or workflow tier."""
+
+
+def _refuse_processes(nodeid: str):
+    """A replacement of subprocess.Popen.__init__ that refuses, naming the test and the command."""
+
+    def refuse(self, args, *rest, **kwargs):
+        shown = args if isinstance(args, str) else " ".join(map(str, args))
+        raise UnitTierError(f"{nodeid}: a unit test started a process ({shown[:100]}); the unit tier runs in-process "
+                            "only: mark the test `engine` or `workflow`, or list its file in tests/conftest.py TIERS")
+
+    return refuse
+
+
+def pytest_runtest_call(item):
+    """The unit tier starts no process (engine, Snakemake, SLURM, pip, the project's own commands): a
+    unit test that does fails, naming itself (`UnitTierError`), so that `make test-unit` stays fast
+    and needs no engine. Tiers are by what a test starts, checked here, not by its file's name."""
+    if item.get_closest_marker("unit") is None:
+        return
+    import subprocess
+
+    item.add_report_section("call", "tier", "unit: processes refused")
+    original = subprocess.Popen.__init__
+    subprocess.Popen.__init__ = _refuse_processes(item.nodeid)
+    item.addfinalizer(lambda: setattr(subprocess.Popen, "__init__", original))

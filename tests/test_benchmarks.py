@@ -1,5 +1,6 @@
 """The benchmarks' own refusals (their figures are printed by `make bench`, never asserted)."""
 
+import pytest
 import subprocess
 import sys
 from pathlib import Path
@@ -7,6 +8,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.mark.workflow  # runs the command as a user does: a process (tests/conftest.py)
 def test_reference_solver_benchmark_refuses_an_unknown_baseline_naming_it():
     run = subprocess.run([sys.executable, "-m", "benchmarks.reference_solver", "--baseline", "no-such-rev"],
                          cwd=ROOT, capture_output=True, text=True, timeout=120)

@@ -153,6 +153,7 @@ print(f"size {{size}}")
 """
 
 
+@pytest.mark.workflow  # runs the command as a user does: a process (tests/conftest.py)
 @pytest.mark.parametrize("atomic", [False, True])
 def test_a_figure_whose_save_fails_leaves_no_file(tmp_path, atomic):
     """A disk that fills while a figure is saved (here: the process may write the picture's size
@@ -178,6 +179,7 @@ def test_a_figure_whose_save_fails_leaves_no_file(tmp_path, atomic):
         assert target.stat().st_size == size - 100 and target.read_bytes().startswith(b"\x89PNG")
 
 
+@pytest.mark.workflow  # runs the command as a user does: a process (tests/conftest.py)
 def test_a_failed_atomic_write_leaves_the_old_file_and_no_temporary(tmp_path):
     """write_atomically of 10 kB where a process may write 4 kB per file (as on a full disk): the
     old file stays whole, no temporary file stays, and the error names the file."""

@@ -112,6 +112,7 @@ def test_a_k_beyond_the_reference_solvers_range_is_a_cell_that_says_so_not_a_cra
     assert table.drop(out.index).eps_own_equation.notna().all()
 
 
+@pytest.mark.workflow  # runs the command as a user does: a process (tests/conftest.py)
 def test_the_keywords_target_with_yade_2025_told_e_0_05_tabulates_the_out_of_range_cell(tmp_path):
     """`snakemake -j2 keywords` with YADE 2025 told the shipped grid's smallest e, 0.05 (and 0.5):
     it finishes (it crashed after 57 s with 'ValueError: K must lie in [0.0, 10.0], got [11.48785974]'),

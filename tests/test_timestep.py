@@ -23,22 +23,44 @@ KEYS = {"law", "geometry", "quantity", "tolerance", "dt_max_s", "dt_max_over_T_R
 COMMAND = [sys.executable, "-m", "postprocess.timestep"]
 
 
-def advisor(*args):
-    return processes.run([*COMMAND, *args], cwd=ROOT, capture_output=True, text=True, timeout=120)
+def advisor(*args) -> subprocess.CompletedProcess:
+    """The advisor's command line (`timestep.main`) run in this process, as a user runs it: its exit
+    status, stdout and stderr (the unit tier starts no process; `test_the_module_runs_as_a_command`
+    runs it as one)."""
+    import contextlib
+    import io
+    import os
+
+    out, err = io.StringIO(), io.StringIO()
+    cwd = os.getcwd()
+    os.chdir(ROOT)
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                status = timestep.main([str(a) for a in args])
+            except SystemExit as stop:  # argparse's usage errors, and sys.exit
+                status = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 2)
+                if isinstance(stop.code, str):
+                    print(stop.code, file=sys.stderr)
+    finally:
+        os.chdir(cwd)
+    return subprocess.CompletedProcess([*COMMAND, *args], status, out.getvalue(), err.getvalue())
 
 
 def both(*args, timeout=120) -> tuple[subprocess.CompletedProcess, subprocess.CompletedProcess]:
-    """The advisor run with `args` as text and with --json, the two at once: (plain, json)."""
-    started = [processes.start([*COMMAND, *args, *extra], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True) for extra in ((), ("--json",))]
-    done = []
-    for proc in started:
-        try:
-            stdout, stderr = proc.communicate(timeout=timeout)
-        finally:
-            processes.stop(proc)
-        done.append(subprocess.CompletedProcess(proc.args, proc.returncode, stdout, stderr))
-    return done[0], done[1]
+    """The advisor run with `args` as text and with --json: (plain, json)."""
+    return advisor(*args), advisor(*args, "--json")
+
+
+@pytest.mark.workflow  # a process of its own, as a user starts it
+def test_the_module_runs_as_a_command_and_refuses_as_one():
+    ok = processes.run([*COMMAND, STEEL, "--law", "elastic", "--velocity", "1 m/s", "--tolerance", "1e-3", "--json"],
+                       cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert ok.returncode == 0 and {row["quantity"] for row in strict_json(ok.stdout)} >= {"T", "eps"}, ok.stderr
+    bad = processes.run([*COMMAND, STEEL, "--law", "elastic", "--K", "-1", "--json"], cwd=ROOT, capture_output=True,
+                        text=True, timeout=300)
+    assert bad.returncode == 2 and strict_json(bad.stdout)["error"]["argument"] == "--K"
+    assert "Traceback" not in bad.stderr
 
 
 def strict_json(text: str):

@@ -31,6 +31,7 @@ def run(*args):
                           capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.workflow  # runs the command as a user does: a process (tests/conftest.py)
 def test_the_command_prints_the_table_and_refuses_a_bad_unit_naming_it():
     ok = run("cases/steel.yaml", "--K", "0.1", "--velocity", "2 m/s")
     assert ok.returncode == 0, ok.stderr

@@ -18,6 +18,7 @@ def run(*args):
                           capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.workflow  # runs the command as a user does: a process (tests/conftest.py)
 def test_it_prints_eta_at_full_precision_and_that_eta_restitutes_the_eps_asked_for():
     out = run("cases/steel.yaml", "--restitution", "0.8", "--velocity", "3.9 m/s", "--criterion", "x0")
     assert out.returncode == 0, out.stderr
@@ -32,6 +33,7 @@ def test_it_prints_eta_at_full_precision_and_that_eta_restitutes_the_eps_asked_f
         assert float(K) == pytest.approx(tuned.dissipation_parameter(3.9), rel=1e-12)
 
 
+@pytest.mark.workflow  # runs the command as a user does: a process (tests/conftest.py)
 def test_a_restitution_no_viscosity_reaches_and_a_case_without_velocity_are_refused():
     low = run("cases/steel.yaml", "--restitution", "0.01", "--velocity", "1 m/s")
     assert low.returncode == 2 and "--restitution: no K in [0, 10] restitutes 0.01 under F0" in low.stderr
