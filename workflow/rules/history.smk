@@ -6,6 +6,11 @@
 # and the runs of one release are one job (group `history`): SLURM's per-job cost once per release.
 
 HISTORY = config["history"]
+#: Where the history writes: config history.folder, results/history unless given (postprocess.history_query
+#: gives each answer a folder of its own); its logs go to logs/ and the same path after results/.
+HISTORY_DIR = HISTORY.get("folder", "results/history")
+_HISTORY_SUB = HISTORY_DIR.removeprefix("results/")
+_HISTORY_BENCH = "logs/benchmarks" if _HISTORY_SUB == "history" else f"logs/benchmarks/{_HISTORY_SUB}"
 
 
 def history_releases():
@@ -54,7 +59,7 @@ def history_requested():
     targets, jobs = requested()
     if targets is None:
         return True
-    return (any(t == "history" or t.startswith("results/history") for t in targets)
+    return (any(t == "history" or t.startswith("results/history") or t.startswith(HISTORY_DIR) for t in targets)
             or any(str(getattr(j, "rule_name", "")).startswith("history") for j in jobs))
 
 
@@ -69,9 +74,9 @@ rule history_install:
     """One release as a build: a study build's version banner, or a PyPI release installed with
     `make build <code>==<release>` (idempotent) and its banner; a release that cannot be installed
     writes why (the command and its output), not an error, so that the other releases still run."""
-    output: "results/history/installs/{release}.json"
-    log: "logs/history/install/{release}.log"
-    benchmark: "logs/benchmarks/history_install/{release}.tsv"
+    output: f"{HISTORY_DIR}/installs/{{release}}.json"
+    log: f"logs/{_HISTORY_SUB}/install/{{release}}.log"
+    benchmark: f"{_HISTORY_BENCH}/history_install/{{release}}.tsv"
     params: spec=lambda w: HISTORY_RELEASES[w.release], project=workflow.basedir
     group: "history"
     resources: **cluster_resources(runtime=30, mem_mb=2000)
@@ -82,15 +87,15 @@ rule history_runs:
     """One release's checks (postprocess.history): the reduced cases' viscoelastic ladders, its
     restitution keywords' promise, and its code's regression cases; results/history/<release>.csv."""
     input:
-        install="results/history/installs/{release}.json",
+        install=f"{HISTORY_DIR}/installs/{{release}}.json",
         cases=HISTORY["cases"],
         decks=lambda w: DECKS[HISTORY_RELEASES[w.release]["code"]],
     output:
-        rows="results/history/{release}.csv",
-        runs=directory("results/history/{release}/runs"),
-        manifest="results/history/{release}/manifest.json",
-    log: "logs/history/{release}.log"
-    benchmark: "logs/benchmarks/history_runs/{release}.tsv"
+        rows=f"{HISTORY_DIR}/{{release}}.csv",
+        runs=directory(f"{HISTORY_DIR}/{{release}}/runs"),
+        manifest=f"{HISTORY_DIR}/{{release}}/manifest.json",
+    log: f"logs/{_HISTORY_SUB}/{{release}}.log"
+    benchmark: f"{_HISTORY_BENCH}/history_runs/{{release}}.tsv"
     params: spec=lambda w: HISTORY_RELEASES[w.release], history=HISTORY, ladder=config["ladder"],
             tolerance=config["tolerance"], timeout_floor_s=config["engine_timeout_floor_s"]
     group: "history"
@@ -103,14 +108,14 @@ rule history_summary:
     """history.csv (code, release, check, status, error, resolution, ...), history.md and .html (a
     release x check matrix per code, each defect as a sentence) and history.png (each check's error
     against release)."""
-    input: expand("results/history/{release}.csv", release=HISTORY_RELEASES)
+    input: expand(f"{HISTORY_DIR}/{{release}}.csv", release=HISTORY_RELEASES)
     output:
-        csv="results/history/history.csv",
-        md="results/history/history.md",
-        html="results/history/history.html",
-        png="results/history/history.png",
-    log: "logs/history/summary.log"
-    benchmark: "logs/benchmarks/history_summary/all.tsv"
+        csv=f"{HISTORY_DIR}/history.csv",
+        md=f"{HISTORY_DIR}/history.md",
+        html=f"{HISTORY_DIR}/history.html",
+        png=f"{HISTORY_DIR}/history.png",
+    log: f"logs/{_HISTORY_SUB}/summary.log"
+    benchmark: f"{_HISTORY_BENCH}/history_summary/all.tsv"
     script: "../scripts/history_summary.py"
 
 

@@ -44,9 +44,10 @@ for path in h["cases"]:
         for law in h["laws"]:
             if law_unavailable(code, law) is not None:
                 continue
-            for V in case.impact_velocities(pair, h["K"]):
+            velocities = case.impact_velocities(pair, h["K"])  # a case's own impacts, else history.K
+            for V in velocities:
                 K = pair.dissipation_parameter(V)
-                check = f"{law} {pair.geometry}" + (f" {case.name} K={K:.3g}" if len(h["cases"]) + len(h["K"]) > 2
+                check = f"{law} {pair.geometry}" + (f" {case.name} K={K:.3g}" if len(h["cases"]) + len(velocities) > 2
                                                      else "")
                 ladders[check] = (LAW_REGISTRY[law].criteria[0],  # x0 with the tail kept, F0 clipped
                                   [RunSpec(case.name, code, law, pair, V, f, build=base["build"])
