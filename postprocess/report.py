@@ -182,6 +182,9 @@ class ReportInputs:
     folder: str = "results"
     #: The plans' notes (`engines.plan.Plan.notes`): what runs and what does not, in words.
     plan_notes: list = field(default_factory=list)
+    #: Build folders beside the report that this run's builds do not own (`stale_build_folders`): left
+    #: by an earlier run with another build list, said to be stale under the verdict, never listed.
+    stale_folders: list = field(default_factory=list)
     case_reports: list = field(default_factory=list)
     comparisons: list = field(default_factory=list)
 
@@ -338,6 +341,16 @@ def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
     return text + (f" Known upstream: {keyword.known_defect}." if keyword.known_defect else "")
 
 
+def stale_build_folders(folder: Path, builds) -> list[str]:
+    """The build folders in `folder` (each with the manifest.json of an engine job) whose build is
+    not among `builds`: an earlier run's with another build list, by path."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    return sorted(str(p) for p in folder.iterdir()
+                  if p.is_dir() and (p / "manifest.json").is_file() and p.name not in set(builds))
+
+
 def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     """Write report.md, report.html and the plots of `inputs` into out_dir (the plots in
     `workers` processes, `postprocess.report_plots.start_drawing`).
@@ -392,6 +405,11 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     if verdict["verdict"] != "PASS":
         lines += ["Failing checks:", ""] + [f"- {f}" for f in verdict["failures"]] + [""]
     lines += [NOT_VALIDATED, ""]
+    if inputs.stale_folders:
+        lines += [f"**Stale folders**: {', '.join(f'`{f}`' for f in inputs.stale_folders)} beside this report are "
+                  "from an earlier run with another build list. This report was made by this run's builds alone "
+                  f"({', '.join(inputs.builds)}); it neither uses nor lists those folders' runs, and the verdict "
+                  "they were part of is withdrawn. Rerun that run's own command to make them current.", ""]
     lines += [f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} from `{inputs.folder}/summary.csv` "
               f"({len(full) - len(limits)} rows of engine runs, one per run and end-of-collision criterion, and "
               f"{len(limits)} of ladder limits, dt = 0; sha256 {verdict['summary_sha256'][:12]}…) and "

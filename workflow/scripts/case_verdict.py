@@ -19,7 +19,7 @@ from common import log_to
 from contact_model import Body, ContactPair
 from engines.codes import CODES
 from postprocess.gate import gate_checks, verdict_of, write_verdict_files
-from postprocess.report import ReportInputs, write_report
+from postprocess.report import ReportInputs, stale_build_folders, write_report
 from postprocess.report_timestep import case_error_maps
 from postprocess.verdict_files import withdraw_gate
 from records.files import file_sha256
@@ -54,6 +54,7 @@ def report():
     write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
                               not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
                               plan_notes=plan.get("notes", []), timestep=timestep,
+                              stale_folders=stale_build_folders(Path(snakemake.output.md).parent, builds),
                               code_notes=code_notes, ladder=snakemake.params.ladder,
                               reference=pd.read_csv(snakemake.input.reference),
                               title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",
