@@ -35,13 +35,17 @@ def engine_priority(wildcards):
     return engine_job_priority(BUILDS[wildcards.build].code, len(runs), sum(r["steps"] for r in runs))
 
 
+from engines.plan_digest import PlanListing  # noqa: E402
+
+
 rule plan:
     """The case's runs, checked and listed (results/<case>/plan.json)."""
     input: case=lambda w: CASES[w.case], codes=CODES_FILE  # which laws each code can run
     output: "results/{case}/plan.json"
     log: "logs/{case}/plan.log"
     benchmark: "logs/benchmarks/plan/{case}.tsv"
-    params: listing=lambda w: PLANS[w.case]  # planned when the workflow started (workflow/rules/cases.smk)
+    # planned when the workflow started (workflow/rules/cases.smk); named in the log by its digest
+    params: listing=lambda w: PlanListing(PLANS[w.case])
     # The case summary waits for it: at priority 0 it ran after the last engine job, in series
     # with each case's summary on the study's tail.
     priority: CRITICAL_PATH
@@ -62,7 +66,7 @@ rule run_engine:
     # The plan from the workflow (what the plan rule writes to plan.json), not the file: the job
     # is then ready when the study starts (ALL_CORES_FIRST). A changed plan changes these params,
     # and Snakemake reruns the job.
-    params: settings=SETTINGS, build=lambda w: build_params(w.build), listing=lambda w: PLANS[w.case]
+    params: settings=SETTINGS, build=lambda w: build_params(w.build), listing=lambda w: PlanListing(PLANS[w.case])
     threads: lambda w: CODES[BUILDS[w.build].code].processes  # ESyS: two MPI ranks
     priority: engine_priority
     resources: **cluster_resources(runtime=30, mem_mb=2000)
