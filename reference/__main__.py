@@ -40,6 +40,18 @@ def _print_series(order: int) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the reference solver's command line (the module docstring lists its forms).
+
+    Parameters
+    ----------
+    argv : list of str or None
+        The command-line arguments without the program name (None: ``sys.argv[1:]``) [-].
+
+    Returns
+    -------
+    int
+        The exit status, 0 on success (argparse exits with 2 on a usage error) [-].
+    """
     parser = argparse.ArgumentParser(prog="python -m reference", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("K", nargs="*", type=float,

@@ -8,8 +8,23 @@ import math
 
 
 def beta(a: float, b: float) -> float:
-    """Euler's beta function B(a, b) = Gamma(a) Gamma(b) / Gamma(a + b); the standard library's
-    gamma gives it to ~5e-16 here (against mpmath), and saves importing scipy.special."""
+    """Euler's beta function B(a, b) = Gamma(a) Gamma(b) / Gamma(a + b).
+
+    The standard library's gamma gives it to ~5e-16 here (against mpmath), and saves importing
+    scipy.special.
+
+    Parameters
+    ----------
+    a : float
+        The first argument, a > 0 [-].
+    b : float
+        The second argument, b > 0 [-].
+
+    Returns
+    -------
+    float
+        B(a, b) [-].
+    """
     return math.gamma(a) * math.gamma(b) / math.gamma(a + b)
 
 

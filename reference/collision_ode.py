@@ -105,10 +105,29 @@ class CollisionTable:
     energy_residual: np.ndarray
 
     def row(self, i: int) -> dict:
-        """The i-th entry as a dict of floats."""
+        """The i-th entry as a dict of floats.
+
+        Parameters
+        ----------
+        i : int
+            The index of the entry, 0 <= i < len(K) [-].
+
+        Returns
+        -------
+        dict of str to float
+            Every field of the table at entry i, in the table's dimensionless units (lengths of delta_e,
+            times of delta_e/V, velocities of V, forces of M* V^2/delta_e, energies of (1/2) M* V^2).
+        """
         return {f.name: float(getattr(self, f.name)[i]) for f in fields(self)}
 
     def rows(self) -> list[dict]:
+        """Every entry as a dict of floats, in the order of K.
+
+        Returns
+        -------
+        list of dict
+            `row` (i) for each i, in the table's dimensionless units.
+        """
         return [self.row(i) for i in range(len(self.K))]
 
 
@@ -142,8 +161,34 @@ def collision_trajectory(K: float, points_per_phase: int = 200) -> dict[str, np.
 
     Sampled uniformly in each phase's own variable (denser where x changes fast), sorted in
     tau, evaluated on the Taylor polynomials of the integration steps (as accurate as the step
-    ends). Returns arrays tau, x, v (= x'), force (x^{1/2}(5/4 x + K x')), kinetic (v^2),
-    elastic (x^{5/2}) and dissipated (D), energies as fractions of (1/2) M* V^2.
+    ends).
+
+    Parameters
+    ----------
+    K : float
+        The dissipation parameter, in [0, 10] [-].
+    points_per_phase : int
+        The samples taken in each of the four phases of the integration [-].
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        tau [delta_e/V], x [delta_e], v (= x') [V], force (x^{1/2}(5/4 x + K x')) [M* V^2/delta_e],
+        kinetic (v^2), elastic (x^{5/2}) and dissipated (D), the energies as fractions of
+        (1/2) M* V^2 [-].
+
+    Raises
+    ------
+    ValueError
+        For K outside [0, 10].
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the dimensionless equation of motion, eq. 2.
+    Kuwabara, G. & Kono, K. (1987), the dissipative force (cited as [Kuwabara87] by He & Wettlaufer).
+    Brilliantov, N. V., Spahn, F., Hertzsch, J.-M. & Poeschel, T. (1996). Model for collisions in
+    granular gases. Phys. Rev. E 53, 5382.
     """
     if not K_RANGE[0] <= K <= K_RANGE[1]:
         raise ValueError(f"K must lie in [{K_RANGE[0]}, {K_RANGE[1]}], got {K}")
@@ -192,5 +237,23 @@ def solve_collisions(K, *, batch: int = BATCH, allow_negative: bool = False) -> 
 
 
 def solve_collision(K: float) -> dict:
-    """Characteristics of one collision as a dict of floats (see `CollisionTable`)."""
+    """Characteristics of one collision as a dict of floats (see `CollisionTable`).
+
+    Parameters
+    ----------
+    K : float
+        The dissipation parameter, in [0, 10] [-].
+
+    Returns
+    -------
+    dict of str to float
+        The fields of `CollisionTable` for this K, in its dimensionless units.
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the dimensionless equation of motion, eq. 2.
+    Schwager, T. & Poeschel, T. (2008), the F0 criterion: the bodies separate where the force
+    vanishes (cited as [Schwager08] by He & Wettlaufer).
+    """
     return solve_collisions([K]).row(0)

@@ -16,12 +16,33 @@ CRITERIA = ("x0", "F0")
 
 
 def dissipation_for_restitution(eps: float, criterion: str = "F0") -> float:
-    """The K of x'' + K x^{1/2} x' + (5/4) x^{3/2} = 0 whose restitution under `criterion`
-    ('F0': where the force vanishes, the physical separation; 'x0': where the overlap does) is
-    `eps`, 0 < eps < 1.
+    """The K of x'' + K x^{1/2} x' + (5/4) x^{3/2} = 0 whose restitution under `criterion` is `eps`.
 
-    Raises ValueError for eps outside (0, 1), an unknown criterion, or an eps below what the
-    largest K of the solver restitutes (no K reaches it)."""
+    Parameters
+    ----------
+    eps : float
+        The restitution coefficient to reach, 0 < eps < 1 [-].
+    criterion : str
+        'F0' (where the force vanishes, the physical separation) or 'x0' (where the overlap does)
+        [-].
+
+    Returns
+    -------
+    float
+        The dissipation parameter K, to 1e-14 [-].
+
+    Raises
+    ------
+    ValueError
+        For eps outside (0, 1), an unknown criterion, or an eps below what the largest K of the
+        solver restitutes (no K reaches it).
+
+    References
+    ----------
+    Brilliantov, N. V., Spahn, F., Hertzsch, J.-M. & Poeschel, T. (1996). Model for collisions in
+    granular gases. Phys. Rev. E 53, 5382.
+    Kuwabara, G. & Kono, K. (1987), the dissipative force (cited as [Kuwabara87] by He & Wettlaufer).
+    """
     if criterion not in CRITERIA:
         raise ValueError(f"unknown criterion {criterion!r}; known: {', '.join(CRITERIA)}")
     if not 0.0 < eps < 1.0:

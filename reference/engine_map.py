@@ -64,22 +64,37 @@ def replay(K: float, h: float, steps: int, start_phase: float = 0.5, gap_steps: 
     Parameters
     ----------
     K : float
-        The dissipation parameter (0: Hertz alone).
+        The damping coefficient c of c x^p x' (0: Hertz alone): for p = 1/2 the dissipation
+        parameter K [-].
     h : float
-        The step dt V / delta_e.
+        The step dt V / delta_e [-].
     steps : int
-        Steps to take after the first sample.
-    start_phase, gap_steps : float, int
-        Contact starts `start_phase` of a step after sample `gap_steps`.
+        Steps to take after the first sample [-].
+    start_phase : float
+        Contact starts `start_phase` of a step after sample `gap_steps` [-].
+    gap_steps : int
+        The samples before the contact starts [-].
     clipped : bool
-        Clip the force at zero (the law 'viscoelastic_clipped').
-    power : float
-        The damping's power p of x^p x' (`contact_model.laws.DAMPING_POWER`): 1/2 the
-        viscoelastic law (K), 1/4 the restitution keywords (b), 0 a linear dashpot (c).
+        Clip the force at zero (the law 'viscoelastic_clipped') [-].
     position_scale : float
         0: the overlap is the stored coordinate itself (no rounding beyond the overlap's own).
         X > 0: the coordinate is stored as a centre at -X - (gap) and the overlap formed as
-        X + centre, as the engines store centres of magnitude R (X = R / delta_e): their rounding.
+        X + centre, as the engines store centres of magnitude R (X = R / delta_e): their rounding
+        [delta_e].
+    power : float
+        The damping's power p of x^p x' (`contact_model.laws.DAMPING_POWER`): 1/2 the
+        viscoelastic law (K), 1/4 the restitution keywords (b), 0 a linear dashpot (c) [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (steps + 1, 4): tau [delta_e/V], x [delta_e], the full-step rate w_n [V] and the
+        force f_n [M* V^2/delta_e].
+
+    Raises
+    ------
+    ValueError
+        For a step h or a step count that is not positive.
     """
     if not (h > 0 and steps > 0 and math.isfinite(h)):
         raise ValueError(f"replay needs a positive step and step count, got h = {h}, steps = {steps}")

@@ -77,13 +77,25 @@ def _event(fun, terminal=False, direction=0.0):
 def solve_linear_damping(c: float) -> dict:
     """The collision (1) at dashpot coefficient c >= 0 (Hertz units).
 
+    Parameters
+    ----------
+    c : float
+        The dashpot coefficient of (1), eta_n delta_e / (M* V) (velocity) or eta_n delta_e / V
+        (mass_velocity), finite and >= 0 [-].
+
     Returns
     -------
     dict
-        c; x_max, tau_max (maximum compression); eps_F0, tau_f (the force's zero after the
-        maximum: where a clipped force would let go); eps_x0, tau_0 (the overlap's return:
-        0 and inf where it does not return); force_max, tau_force_max (the force's maximum, which
-        is c at touching for a strong dashpot); energy_error (|v^2 + x^{5/2} + D - 1| at the end).
+        c; x_max [delta_e], tau_max [delta_e/V] (maximum compression); eps_F0 [-], tau_f (the
+        force's zero after the maximum: where a clipped force would let go); eps_x0 [-], tau_0
+        (the overlap's return: 0 and inf where it does not return); force_max [M* V^2/delta_e],
+        tau_force_max (the force's maximum, which is c at touching for a strong dashpot);
+        energy_error (|v^2 + x^{5/2} + D - 1| at the end) [-].
+
+    Raises
+    ------
+    ValueError
+        For c negative or not finite.
     """
     c = float(c)
     if not (c >= 0 and math.isfinite(c)):
@@ -150,13 +162,47 @@ def solve_linear_damping(c: float) -> dict:
 
 
 def restitution_linear_damping(c: float, criterion: str = "x0") -> float:
-    """eps of (1) under `criterion` ('x0' or 'F0')."""
+    """eps of (1) under `criterion` ('x0' or 'F0').
+
+    Parameters
+    ----------
+    c : float
+        The dashpot coefficient of (1), finite and >= 0 [-].
+    criterion : str
+        The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+        force first returns to zero) [-].
+
+    Returns
+    -------
+    float
+        The restitution coefficient (0 under x0 where the overlap does not return) [-].
+    """
     return solve_linear_damping(c)[f"eps_{criterion}"]
 
 
 def damping_for_restitution_linear(eps: float, criterion: str = "x0") -> float:
-    """The c for which (1) restitutes `eps` under `criterion`, to ~1e-13 (eps_x0 falls from 1
-    at c = 0 to 0 where the overlap stops returning, between c = 1.2 and 1.5)."""
+    """The c for which (1) restitutes `eps` under `criterion`, to ~1e-13.
+
+    eps_x0 falls from 1 at c = 0 to 0 where the overlap stops returning, between c = 1.2 and 1.5.
+
+    Parameters
+    ----------
+    eps : float
+        The restitution coefficient to reach, 0 < eps < 1 [-].
+    criterion : str
+        The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+        force first returns to zero) [-].
+
+    Returns
+    -------
+    float
+        The dashpot coefficient c of (1) [-].
+
+    Raises
+    ------
+    ValueError
+        For eps outside (0, 1), or when no c <= 1e3 restitutes eps.
+    """
     if not 0.0 < eps < 1.0:
         raise ValueError(f"a restitution in (0, 1) is needed, got {eps}")
     high = 1.0
@@ -168,7 +214,20 @@ def damping_for_restitution_linear(eps: float, criterion: str = "x0") -> float:
 
 
 def phase_plane(c: float, points: int = 200) -> np.ndarray:
-    """(tau, x, v) along the collision, for plots: `points` samples of phase B's dense output."""
+    """(tau, x, v) along the collision, for plots: `points` samples of phase B's dense output.
+
+    Parameters
+    ----------
+    c : float
+        The dashpot coefficient of (1), finite and >= 0 [-].
+    points : int
+        The number of samples [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (points, 3): tau [delta_e/V], x [delta_e], v [V].
+    """
     row = solve_linear_damping(c)
     end = row["tau_0"] if math.isfinite(row["tau_0"]) else row["tau_max"] * 4
     t = np.linspace(0.0, end, points)

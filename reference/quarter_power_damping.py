@@ -59,7 +59,28 @@ _QUAD = dict(epsabs=0.0, epsrel=2e-14, limit=200)
 
 
 def damping_ratio(b: float) -> float:
-    """zeta = 2 b / 5: the damping ratio of the linear oscillator that (1) maps onto."""
+    """zeta = 2 b / 5: the damping ratio of the linear oscillator that (1) maps onto.
+
+    Parameters
+    ----------
+    b : float
+        The damping coefficient of b x^{1/4} x' in (1), finite and >= 0 [-].
+
+    Returns
+    -------
+    float
+        The damping ratio zeta [-].
+
+    Raises
+    ------
+    ValueError
+        For b negative or not finite.
+
+    References
+    ----------
+    Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+    cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
+    """
     if not (b >= 0 and math.isfinite(b)):
         raise ValueError(f"the damping coefficient b must be a finite number >= 0, got {b!r}")
     return 0.4 * b
@@ -129,11 +150,23 @@ def _tau(s_end: float, zeta: float, ends_at_zero: bool) -> float:
 def solve_quarter_power(b: float) -> dict:
     """The characteristics of (1) for damping coefficient `b` (see the module's docstring).
 
+    Parameters
+    ----------
+    b : float
+        The damping coefficient of b x^{1/4} x' in (1), finite and >= 0 [-].
+
     Returns
     -------
-    dict with b, zeta, x_max, tau_max, eps_x0 and tau_0 (x0 criterion: NaN and inf when the
-    bodies never separate, zeta >= 1), eps_F0 and tau_f (F0 criterion), force_max and
-    tau_force_max (the largest force, F = (5/4) x^{1/4} (u + 2 zeta v), and when).
+    dict
+        b and zeta [-]; x_max [delta_e], tau_max [delta_e/V]; eps_x0 [-] and tau_0 (x0 criterion:
+        NaN and inf when the bodies never separate, zeta >= 1), eps_F0 [-] and tau_f (F0
+        criterion); force_max [M* V^2/delta_e] and tau_force_max (the largest force,
+        F = (5/4) x^{1/4} (u + 2 zeta v), and when).
+
+    References
+    ----------
+    Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+    cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
     """
     zeta = damping_ratio(b)
     s_m = _s_max(zeta)
@@ -159,8 +192,33 @@ def solve_quarter_power(b: float) -> dict:
 
 
 def restitution_quarter_power(b: float, criterion: str = "x0") -> float:
-    """eps of (1) under `criterion` ('x0' or 'F0') in closed form: exp(-zeta pi / w) (x0; 0 for
-    zeta >= 1, the bodies never separate) or -v at the force zero (F0)."""
+    """eps of (1) under `criterion` in closed form.
+
+    exp(-zeta pi / w) (x0; 0 for zeta >= 1, the bodies never separate) or -v at the force zero (F0).
+
+    Parameters
+    ----------
+    b : float
+        The damping coefficient of b x^{1/4} x' in (1), finite and >= 0 [-].
+    criterion : str
+        The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+        force first returns to zero) [-].
+
+    Returns
+    -------
+    float
+        The restitution coefficient [-].
+
+    Raises
+    ------
+    ValueError
+        For an unknown criterion or an invalid b.
+
+    References
+    ----------
+    Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+    cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
+    """
     zeta = damping_ratio(b)
     if criterion == "x0":
         return math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta * zeta)) if zeta < 1.0 else 0.0
@@ -170,8 +228,33 @@ def restitution_quarter_power(b: float, criterion: str = "x0") -> float:
 
 
 def damping_for_restitution_quarter_power(eps: float, criterion: str = "x0") -> float:
-    """The b of (1) whose restitution under `criterion` is `eps` (0 < eps <= 1). Under x0 it is
-    closed: zeta = -ln eps / sqrt(ln^2 eps + pi^2), b = 5 zeta / 2."""
+    """The b of (1) whose restitution under `criterion` is `eps`.
+
+    Under x0 it is closed: zeta = -ln eps / sqrt(ln^2 eps + pi^2), b = 5 zeta / 2.
+
+    Parameters
+    ----------
+    eps : float
+        The restitution coefficient to reach, 0 < eps <= 1 [-].
+    criterion : str
+        The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+        force first returns to zero) [-].
+
+    Returns
+    -------
+    float
+        The damping coefficient b of (1) [-].
+
+    Raises
+    ------
+    ValueError
+        For eps outside (0, 1], or an eps_F0 below what the clipped law reaches.
+
+    References
+    ----------
+    Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+    cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
+    """
     if not 0.0 < eps <= 1.0:
         raise ValueError(f"a restitution coefficient must lie in (0, 1], got {eps!r}")
     if eps == 1.0:

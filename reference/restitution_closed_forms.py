@@ -76,7 +76,22 @@ PADE_DENOMINATOR = (1.0, 0.501086, 1.15345, 0.577977, 0.532178)
 
 
 def paper_series(K) -> np.ndarray:
-    """eps_x0 = 1 - 1.0089 K + 0.6107 K^2 (the paper's eq. 6, coefficients as printed)."""
+    """eps_x0 = 1 - 1.0089 K + 0.6107 K^2 (the paper's eq. 6, coefficients as printed).
+
+    Parameters
+    ----------
+    K : float or array_like
+        The dissipation parameter(s), K = alpha (V/V_D)^{1/5} [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The restitution coefficient eps_x0 at each K [-].
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations", eq. 6.
+    """
     from .series import paper_series_value
 
     return paper_series_value("eps", K)
@@ -91,30 +106,104 @@ def _taylor_eps(order: int) -> tuple[float, ...]:
 
 
 def taylor_6(K) -> np.ndarray:
-    """eps_x0 as the project's 6th-order Taylor polynomial in K (computed from the solver)."""
+    """eps_x0 as the project's 6th-order Taylor polynomial in K (computed from the solver).
+
+    Parameters
+    ----------
+    K : float or array_like
+        The dissipation parameter(s), K = alpha (V/V_D)^{1/5} [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The restitution coefficient eps_x0 at each K [-].
+    """
     return np.polynomial.polynomial.polyval(np.asarray(K, dtype=float), _taylor_eps(6))
 
 
 def scaled_velocity(K) -> np.ndarray:
-    """v* = (K / k_0)^{1/2}, the expansion variable of Ramirez et al. and Mueller & Poeschel."""
+    """v* = (K / k_0)^{1/2}, the expansion variable of Ramirez et al. and Mueller & Poeschel.
+
+    Parameters
+    ----------
+    K : float or array_like
+        The dissipation parameter(s), K = alpha (V/V_D)^{1/5} [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The scaled velocity v* at each K [-].
+
+    References
+    ----------
+    Ramirez, R., Poeschel, T., Brilliantov, N. V. & Schwager, T. (1999). Coefficient of restitution of
+    colliding viscoelastic spheres. Phys. Rev. E 60, 4465.
+    Mueller, P. & Poeschel, T. (2011). Collision of viscoelastic spheres: compact expressions for the
+    coefficient of normal restitution. Phys. Rev. E 84, 021302.
+    """
     return np.sqrt(np.asarray(K, dtype=float) / K0)
 
 
 def ramirez_1999(K) -> np.ndarray:
-    """eps_x0 = 1 - C_1 (K/k_0) + C_2 (K/k_0)^2, C_1 = 1.153449, C_2 = 0.79826 (Ramirez et al. 1999)."""
+    """eps_x0 = 1 - C_1 (K/k_0) + C_2 (K/k_0)^2, C_1 = 1.153449, C_2 = 0.79826 (Ramirez et al. 1999).
+
+    Parameters
+    ----------
+    K : float or array_like
+        The dissipation parameter(s), K = alpha (V/V_D)^{1/5} [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The restitution coefficient eps_x0 at each K [-].
+
+    References
+    ----------
+    Ramirez, R., Poeschel, T., Brilliantov, N. V. & Schwager, T. (1999). Coefficient of restitution of
+    colliding viscoelastic spheres. Phys. Rev. E 60, 4465.
+    """
     q = np.asarray(K, dtype=float) / K0
     return 1.0 - RAMIREZ_C1 * q + RAMIREZ_C2 * q**2
 
 
 def muller_poschel_2011(K) -> np.ndarray:
-    """eps_F0, the [1/4] Pade approximant in v* = (K/k_0)^{1/2} (Mueller & Poeschel 2011)."""
+    """eps_F0, the [1/4] Pade approximant in v* = (K/k_0)^{1/2} (Mueller & Poeschel 2011).
+
+    Parameters
+    ----------
+    K : float or array_like
+        The dissipation parameter(s), K = alpha (V/V_D)^{1/5} [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The restitution coefficient eps_F0 at each K [-].
+
+    References
+    ----------
+    Mueller, P. & Poeschel, T. (2011). Collision of viscoelastic spheres: compact expressions for the
+    coefficient of normal restitution. Phys. Rev. E 84, 021302.
+    """
     v = scaled_velocity(K)
     return (np.polynomial.polynomial.polyval(v, PADE_NUMERATOR)
             / np.polynomial.polynomial.polyval(v, PADE_DENOMINATOR))
 
 
 def f0_correction(K, eps_x0) -> np.ndarray:
-    """Leading term of eps_F0 - eps_x0 = (4/15) (4/5)^{3/2} K^{5/2} eps_x0^{3/2}."""
+    """Leading term of eps_F0 - eps_x0 = (4/15) (4/5)^{3/2} K^{5/2} eps_x0^{3/2}.
+
+    Parameters
+    ----------
+    K : float or array_like
+        The dissipation parameter(s) [-].
+    eps_x0 : float or array_like
+        The restitution coefficient(s) under the x0 criterion at the same K [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The leading term of eps_F0 - eps_x0 [-].
+    """
     K = np.asarray(K, dtype=float)
     return 4.0 / 15.0 * 0.8**1.5 * K**2.5 * np.asarray(eps_x0, dtype=float) ** 1.5
 
@@ -144,9 +233,22 @@ K_INTERVALS = (0.1, 0.5, 1.0, 5.0)
 
 
 def closed_form_errors(K_intervals=K_INTERVALS, points: int = 501) -> pd.DataFrame:
-    """Largest |eps_form - eps_ref| and the largest relative error on each [0, K_max], under the
-    criterion each form assumes; where on the interval. A tidy table: form, criterion, K_max,
-    max_abs_error, K_at_max, max_rel_error."""
+    """Largest |eps_form - eps_ref| and the largest relative error of each closed form on each
+    [0, K_max], under the criterion each form assumes; where on the interval.
+
+    Parameters
+    ----------
+    K_intervals : sequence of float
+        The upper ends K_max of the intervals [0, K_max] [-].
+    points : int
+        The K sampled on each interval, its ends included [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        A tidy table: form, criterion, K_max, max_abs_error, K_at_max, max_rel_error, source; all
+        numbers dimensionless [-].
+    """
     import pandas as pd
 
     from .collision_ode import solve_collisions

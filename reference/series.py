@@ -41,7 +41,30 @@ PAPER_SERIES_FILE = Path(__file__).with_name("paper_series.csv")
 
 
 def hertz_ratios(table: CollisionTable, criterion: str) -> dict[str, np.ndarray]:
-    """The five measured ratios (see module docstring) under criterion 'x0' or 'F0'."""
+    """The five measured ratios (see module docstring) under criterion 'x0' or 'F0'.
+
+    Parameters
+    ----------
+    table : CollisionTable
+        The solved collisions (`solve_collisions`), dimensionless [-].
+    criterion : str
+        The end-of-collision criterion, 'x0' or 'F0' [-].
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        'T/T_e', 'A/A_e', 'eps', 'Q1/Q1e' and 'Q2/Q2e', one value per K of `table` [-].
+
+    Raises
+    ------
+    ValueError
+        For an unknown criterion.
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    Q1 = A^{1/2} T^2 and Q2 = A / (sqrt(V V') T), eqs. 7a and 7b.
+    """
     if criterion == "x0":
         tau, eps = table.tau_0, table.eps_x0
     elif criterion == "F0":
@@ -60,7 +83,23 @@ def hertz_ratios(table: CollisionTable, criterion: str) -> dict[str, np.ndarray]
 
 
 def load_paper_series(path: Path = PAPER_SERIES_FILE) -> pd.DataFrame:
-    """The paper's series coefficients: columns quantity, order, coefficient, equation, note."""
+    """The paper's series coefficients: columns quantity, order, coefficient, equation, note.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The series file (default: reference/paper_series.csv) [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per published coefficient; the coefficients are dimensionless [-].
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the series of eqs. 4-6, 7a and 7b.
+    """
     import pandas as pd  # here, not at import: most users of `reference` never read the table
 
     return pd.read_csv(path, comment="#", dtype={"equation": str}).fillna({"note": ""})
@@ -68,20 +107,61 @@ def load_paper_series(path: Path = PAPER_SERIES_FILE) -> pd.DataFrame:
 
 @lru_cache(maxsize=None)
 def paper_series_terms(path: Path = PAPER_SERIES_FILE) -> Mapping[str, tuple[tuple[int, float], ...]]:
-    """{quantity: ((order, coefficient), ...)} of a series file, in the file's row order, read
-    once per process: the summaries and the closed-form fits evaluate the series thousands of
+    """{quantity: ((order, coefficient), ...)} of a series file, in the file's row order.
+
+    Read once per process: the summaries and the closed-form fits evaluate the series thousands of
     times, and parsing the CSV each time was most of their run time (closed_forms: 3 500 reads,
-    ~8 s). Read-only (a mapping proxy of tuples): no caller can change what the next one gets."""
+    ~8 s). Read-only (a mapping proxy of tuples): no caller can change what the next one gets.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The series file (default: reference/paper_series.csv) [-].
+
+    Returns
+    -------
+    Mapping of str to tuple of (int, float)
+        Per quantity, its (order, coefficient) pairs; the coefficients are dimensionless [-].
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the series of eqs. 4-6, 7a and 7b.
+    """
     series = load_paper_series(path)
     return MappingProxyType({q: tuple(zip(rows.order, rows.coefficient))
                              for q, rows in series.groupby("quantity", sort=False)})
 
 
 def paper_series_value(quantity: str, K, series: pd.DataFrame | None = None) -> np.ndarray:
-    """The paper's truncated series for `quantity` evaluated at K (the O(K^3) rest dropped):
+    """The paper's truncated series for `quantity` evaluated at K (the O(K^3) rest dropped).
 
         sum_n c_n K^n,   (n, c_n) the rows of `quantity` in `series` (default: the paper's file,
                          parsed once, `paper_series_terms`).
+
+    Parameters
+    ----------
+    quantity : str
+        One of 'T/T_e', 'A/A_e', 'eps', 'Q1/Q1e', 'Q2/Q2e' [-].
+    K : float or array_like
+        The dissipation parameter(s) [-].
+    series : pandas.DataFrame or None
+        A table as `load_paper_series` returns (None: the paper's file) [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The truncated series at each K [-].
+
+    Raises
+    ------
+    KeyError
+        When the series gives no coefficient for `quantity`.
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the series of eqs. 4-6, 7a and 7b.
     """
     if series is None:
         terms = paper_series_terms().get(quantity, ())
@@ -109,8 +189,20 @@ def _chebyshev_taylor(radius: float, degree: int, order: int) -> dict[str, np.nd
 def taylor_coefficients(order: int = 6, radius: float = 0.3, degree: int = 22) -> pd.DataFrame:
     """The project's Taylor coefficients in K of the five ratios, criterion x0.
 
-    Returns a tidy table: quantity, order, coefficient, uncertainty; the uncertainty is the
-    difference to a second fit on [-0.8 r, 0.8 r] (it grows with the order).
+    Parameters
+    ----------
+    order : int
+        The highest order returned [-].
+    radius : float
+        The half-width r of the interval [-r, r] of K the Chebyshev interpolation is taken on [-].
+    degree : int
+        The degree of the Chebyshev interpolant [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        A tidy table: quantity, order, coefficient, uncertainty; the uncertainty is the difference
+        to a second fit on [-0.8 r, 0.8 r] (it grows with the order). All dimensionless [-].
     """
     first = _chebyshev_taylor(radius, degree, order)
     second = _chebyshev_taylor(0.8 * radius, degree, order)
@@ -125,9 +217,25 @@ def taylor_coefficients(order: int = 6, radius: float = 0.3, degree: int = 22) -
 
 
 def compare_with_paper(order: int = 6) -> pd.DataFrame:
-    """Every published coefficient beside the project's: quantity, order, paper, equation,
-    computed, uncertainty, difference (paper - computed) and rounding (half a unit in the
-    last printed digit of the paper's coefficient)."""
+    """Every published coefficient beside the project's.
+
+    Parameters
+    ----------
+    order : int
+        The highest order of the project's coefficients [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        quantity, order, paper, equation, computed, uncertainty, difference (paper - computed) and
+        rounding (half a unit in the last printed digit of the paper's coefficient), note. The
+        coefficients are dimensionless [-].
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the series of eqs. 4-6, 7a and 7b.
+    """
     own = taylor_coefficients(order)
     paper = load_paper_series()
     merged = own.merge(paper, on=["quantity", "order"], how="left")

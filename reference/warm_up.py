@@ -10,7 +10,12 @@ from .engine_map import replay
 
 
 def warm_up() -> None:
-    """Call each kernel once, with and without dissipation, clipped and not."""
+    """Call each kernel once, with and without dissipation, clipped and not.
+
+    Returns
+    -------
+    None
+    """
     solve_collision(0.1)
     solve_collisions([0.0, 0.1, 1.0])
     for clipped in (False, True):
