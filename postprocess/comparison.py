@@ -4,7 +4,7 @@ A run gives one row per criterion it represents (see `engines.run_spec.RunSpec.r
 For criterion c the engine's values are
 
     T = T_c,  A = pi R* delta_max,  eps = eps_c,  Q1 = A^{1/2} T^2,  Q2 = A / (sqrt(V V') T), V' = eps V,
-    delta_max,  F_max   (postprocess.quantities),
+    delta_max,  F_max   (records.quantities: every entry of its table),
 
 the reference values are the same from the ODE solution at the run's K (times the Hertz scales
 of the run), and the series values are the paper's truncated series (eqs. 4-7) times the same
@@ -15,13 +15,12 @@ from __future__ import annotations
 
 import math
 
-from reference import HERTZ_TAU, paper_series_value, solve_collisions
+from reference import paper_series_value, solve_collisions
 
-from records.collision_metrics import CollisionMetrics
+from records.collision_metrics import CollisionMetrics, quantities_of
+from records.quantities import QUANTITIES, reference_values
 
-from .quantities import QUANTITIES, characteristics
-
-#: The quantities of a summary row, in order (postprocess.quantities).
+#: The quantities of a summary row, in order (records.quantities).
 QUANTITY_NAMES = tuple(QUANTITIES)
 
 
@@ -50,14 +49,10 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
     delta_e = meta.get("delta_e", A_e / (math.pi * R))
     F_e = meta["effective_mass"] * V**2 / delta_e if "effective_mass" in meta else math.nan
     rows = []
+    scales = {"T_e": T_e, "A_e": A_e, "delta_e": delta_e, "F_e": F_e}
     for criterion in meta["represents"]:
-        T_eng = m.T_x0 if criterion == "x0" else m.T_F0
-        eps_eng = m.eps_x0 if criterion == "x0" else m.eps_F0
-        engine = characteristics(T_eng, m.delta_max, eps_eng, m.force_max, R, V)
-        tau = r["tau_0"] if criterion == "x0" else r["tau_f"]
-        eps_ref = r["eps_x0"] if criterion == "x0" else r["eps_F0"]
-        ref = characteristics(tau / HERTZ_TAU * T_e, r["x_max"] * delta_e, eps_ref, r.get("force_max", math.nan) * F_e,
-                              R, V)
+        engine = quantities_of(m, criterion, R, V)
+        ref = reference_values(r, criterion, scales, R, V)
         row = {
             "case": meta["case"], "build": meta.get("build", meta["engine"]), "engine": meta["engine"],
             "engine_version": meta["engine_version"],

@@ -4,8 +4,9 @@ A gated run is a ladder of runs that differ in their time step alone (`engines.l
 summary's ``ladder`` column). For every ladder and criterion, `extrapolated_rows` makes one row
 of the same columns as a run's, with ``dt`` = 0 (the limit), and
 
-    err_q         the relative error engine vs reference extrapolated to dt -> 0 (q = T, A, eps;
-                  Q1 and Q2 follow from them), and T, A, eps the engine's values in that limit;
+    err_q         the relative error engine vs reference extrapolated to dt -> 0 (q: the gated
+                  quantities of `records.quantities`, T, A, eps; the derived ones, Q1 and Q2,
+                  follow from them), and T, A, eps the engine's values in that limit;
     estimate_q    the ladder's own bound of what the extrapolation leaves (`engines.ladder`);
     roundoff      what the round-off of positions can leave: sqrt(sum_k (w_k floor_k)^2), w the
                   Richardson weights and floor_k each rung's `RunSpec.roundoff_floor`;
@@ -36,12 +37,20 @@ import pandas as pd
 from engines.ladder import (PHASE_TOLERANCE, RESOLUTION_FLOOR, START_PHASE, extrapolate, ladder_roundoff,
                             phase_offset, powers_of)
 
-from .comparison import measured
-from .quantities import GATED_QUANTITIES
+from records.quantities import QUANTITIES, gated_quantities
 
-#: The quantities reported beside the gated ones, extrapolated the same way (no resolution,
-#: no gate): the maximum overlap and force of the physical-results table.
-REPORTED_LIMITS = ("delta_max", "F_max")
+
+def reported_limits() -> tuple[str, ...]:
+    """The quantities reported beside the gated ones, extrapolated the same way (no resolution,
+    no gate): those read off the collision that the gate does not judge (the maximum overlap and
+    force of the physical-results table), from the table at the call."""
+    return tuple(name for name, q in QUANTITIES.items() if not q.gated and q.derive is None)
+
+
+def limit_derived() -> tuple[str, ...]:
+    """The quantities whose limit follows from the gated ones' (Q1, Q2): derived and not gated."""
+    return tuple(name for name, q in QUANTITIES.items() if not q.gated and q.derive is not None)
+
 #: Columns a limit row takes from its finest rung unchanged (the run's description).
 _DESCRIPTION = ["case", "build", "engine", "engine_version", "law", "geometry", "criterion", "V", "K", "T_e", "A_e",
                 "Q1e", "Q2e", "ladder", "eps_ref", "matched_restitution"]
@@ -94,7 +103,8 @@ def _limit_row(g: pd.DataFrame) -> dict:
                    "its rungs' errors are not one series in dt, so their limit means nothing")
     row["problem"] = problem
     limits = {}
-    for q in GATED_QUANTITIES:
+    gated = gated_quantities()
+    for q in gated:
         e = extrapolate(h, g[f"err_{q}"].to_numpy(dtype=float), powers)
         limits[q] = e.value
         row.update({f"err_{q}": e.value, f"estimate_{q}": e.estimate, f"order_{q}": e.order,
@@ -103,21 +113,23 @@ def _limit_row(g: pd.DataFrame) -> dict:
         if f"map_err_{q}" in g.columns and g[f"map_err_{q}"].notna().any():
             on_map = g[f"map_err_{q}"].to_numpy(dtype=float)
             row[f"map_err_{q}"] = float(on_map[np.nanargmax(np.abs(on_map))])
-    for q in REPORTED_LIMITS:  # reported, not gated: the limit and the rungs alone
+    for q in reported_limits():  # reported, not gated: the limit and the rungs alone
         if f"err_{q}" in g.columns and g[f"err_{q}"].notna().all():
             e = extrapolate(h, g[f"err_{q}"].to_numpy(dtype=float), powers)
             row.update({f"{q}_ref": float(finest[f"{q}_ref"]), f"err_{q}": e.value,
                         q: float(finest[f"{q}_ref"]) * (1.0 + e.value), f"estimate_{q}": e.estimate})
     # The engine's values in the limit, and Q1, Q2 (and their errors) from them.
-    ref = {q: float(finest[f"{q}_ref"]) for q in ("T", "A", "eps", "Q1", "Q2")}
-    engine = {q: ref[q] * (1.0 + limits[q]) for q in GATED_QUANTITIES}
-    engine.update({k: v for k, v in measured(engine["T"], engine["A"], engine["eps"], float(finest.V)).items()
-                   if k in ("Q1", "Q2")})
-    for q in ("T", "A", "eps", "Q1", "Q2"):
+    following = gated + limit_derived()  # T, A, eps, Q1, Q2
+    ref = {q: float(finest[f"{q}_ref"]) for q in following}
+    engine = {q: ref[q] * (1.0 + limits[q]) for q in gated}
+    values = {**engine, "R": math.nan, "V": float(finest.V)}  # R: no derived one left needs it
+    for q in limit_derived():
+        engine[q] = values[q] = QUANTITIES[q].derive(values)
+    for q in following:
         row[q] = engine[q]
         row[f"{q}_ref"] = ref[q]
         row[f"{q}_series"] = finest[f"{q}_series"]
         row[f"series_err_{q}"] = finest[f"series_err_{q}"]
-    for q in ("Q1", "Q2"):
+    for q in limit_derived():
         row[f"err_{q}"] = engine[q] / ref[q] - 1.0
     return row

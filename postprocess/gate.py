@@ -35,8 +35,9 @@ import pandas as pd
 from contact_model import GATED_LAWS
 
 from records.files import write_atomically
+from records.quantities import GATED_QUANTITIES  # noqa: F401  (T, A, eps; the reports import it from here)
+from records.quantities import gated_quantities  # read at each call: the table's gated quantities
 
-from .quantities import GATED_QUANTITIES  # T, A, eps: the gated quantities
 from .verdict_files import tolerance_problems, tolerance_warnings
 
 GROUP = ["build", "law", "geometry", "criterion"]
@@ -164,7 +165,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
         flawed = (sel["problem"].astype(object).fillna("").astype(str) if len(sel) and "problem" in sel.columns
                   else pd.Series("", index=sel.index, dtype=object))
         problems = [p for p in flawed if p]
-        for q in GATED_QUANTITIES:
+        for q in gated_quantities():
             row = {**dict(zip(GROUP, key)), "engine": code_of_build.get(key[0], ""), "quantity": q,
                    "planned": n_planned, "landed": n_landed, "failed": n_failed, "max_rel_error": math.nan,
                    "resolution": math.nan, "at_K": math.nan, "case": "", "at_run": "",
@@ -241,7 +242,7 @@ def regression_checks(regressions: pd.DataFrame, tolerance: dict) -> pd.DataFram
         user = sel[sel.role == "user"].iloc[0]
         control = sel[sel.role == "control"].iloc[0]
         failed = isinstance(user.problem, str) and bool(user.problem)
-        for q in GATED_QUANTITIES:
+        for q in gated_quantities():
             error = abs(float(user[f"err_{q}"]))
             resolution = float(user.get(f"resolution_{q}", 0.0)) if not failed else math.nan
             reasons = []
@@ -307,7 +308,8 @@ def verdict_of(checks: pd.DataFrame, summary_sha256: str, tolerance: dict) -> di
         failures = ["no gated check was made: the plans hold no run of a gated law"]
     return {"verdict": "PASS" if ok else "FAIL", "pass": ok, "checked": int(len(checks)),
             "failed": int(len(failing)) if len(checks) else 0, "failures": failures,
-            "tolerance": {q: float(tolerance[q]) for q in GATED_QUANTITIES}, "warnings": tolerance_warnings(tolerance),
+            "tolerance": {q: float(tolerance[q]) for q in gated_quantities()},
+            "warnings": tolerance_warnings(tolerance),
             "summary_sha256": summary_sha256,
             "reported": [f"{check_name(r)}: {'pass' if r['pass'] else r['reason']}" for _, r in reported.iterrows()]}
 

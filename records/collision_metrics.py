@@ -37,6 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .quantities import QUANTITIES, derived_values
+
 #: A force whose magnitude stays below this fraction of the maximum force while the bodies still
 #: overlap is clipped at zero (an engine's rounding may leave 1e-20 instead of 0).
 CLIPPED = 1e-9
@@ -196,3 +198,11 @@ def collision_metrics(time, overlap, normal_velocity, normal_force, impact_veloc
         T_F0=float(t_f0 - t_s), eps_F0=float(eps_f0), samples_in_contact=int(i_x - i_s),
         start_phase=_phase(t_s, t[0], dt), end_phase=_phase(t_x0, t[0], dt),
     )
+
+
+def quantities_of(m: CollisionMetrics, criterion: str, R: float, V: float) -> dict[str, float]:
+    """Every quantity of the table (`records.quantities.QUANTITIES`, in its order) of one run under
+    `criterion` ('x0' or 'F0'): those read off the collision by their entry's `extract`, the others
+    derived from them with the effective radius R [m] and the impact velocity V [m/s]."""
+    return derived_values({name: q.extract(m, criterion) for name, q in QUANTITIES.items()
+                           if q.derive is None and q.extract is not None}, R, V)
