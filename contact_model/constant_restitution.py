@@ -27,8 +27,28 @@ _TOL = dict(rtol=1e-12, atol=1e-14)
 def restitution_of_damping(b: float, criterion: str = "x0") -> float:
     """Restitution coefficient of x'' + b x^{1/4} x' + (5/4) x^{3/2} = 0 (b >= 0).
 
-    criterion 'x0': velocity when the overlap returns to zero (attractive tail kept);
-    'F0': velocity when the force 5/4 x^{3/2} + b x^{1/4} x' first vanishes (clipped force).
+    Parameters
+    ----------
+    b : float
+        The damping coefficient of b x^{1/4} x', >= 0 (only eps > 0.3 is supported) [-].
+    criterion : str
+        'x0': velocity when the overlap returns to zero (attractive tail kept); 'F0': velocity when
+        the force 5/4 x^{3/2} + b x^{1/4} x' first vanishes (clipped force) [-].
+
+    Returns
+    -------
+    float
+        The restitution coefficient [-].
+
+    Raises
+    ------
+    ValueError
+        For b < 0, or a b that stops the bodies before x = 0.3.
+
+    References
+    ----------
+    Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+    cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
     """
     if b < 0:
         raise ValueError(f"b must be non-negative, got {b}")
@@ -64,7 +84,31 @@ def restitution_of_damping(b: float, criterion: str = "x0") -> float:
 
 
 def damping_for_restitution(eps: float, criterion: str = "x0") -> float:
-    """The b that gives restitution `eps` (0.3 < eps <= 1)."""
+    """The b that gives restitution `eps` (0.3 < eps <= 1).
+
+    Parameters
+    ----------
+    eps : float
+        The restitution coefficient to reach, in (0.3, 1] [-].
+    criterion : str
+        The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+        force first returns to zero) [-].
+
+    Returns
+    -------
+    float
+        The damping coefficient b of b x^{1/4} x' [-].
+
+    Raises
+    ------
+    ValueError
+        For eps outside (0.3, 1].
+
+    References
+    ----------
+    Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+    cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
+    """
     if not 0.3 < eps <= 1.0:
         raise ValueError(f"restitution must lie in (0.3, 1], got {eps}")
     if eps == 1.0:

@@ -58,7 +58,23 @@ DAMPING_FORMS: dict[str, DampingForm] = {}
 
 
 def register(cls):
-    """Class decorator: put one instance of the form `cls` into `DAMPING_FORMS` under its name."""
+    """Class decorator: put one instance of the form `cls` into `DAMPING_FORMS` under its name.
+
+    Parameters
+    ----------
+    cls : type
+        A subclass of `DampingForm` with its `name`.
+
+    Returns
+    -------
+    type
+        `cls` itself.
+
+    Raises
+    ------
+    ValueError
+        When a form of that name is registered already.
+    """
     if cls.name in DAMPING_FORMS:
         raise ValueError(f"damping form {cls.name!r} is registered twice")
     DAMPING_FORMS[cls.name] = cls()
@@ -94,13 +110,37 @@ class DampingForm:
 
     @property
     def is_viscoelastic(self) -> bool:
-        """Whether its coefficient is the viscoelastic model's K (form ``half``): the paper's series, the
-        ladder refined by sqrt(K) above K = 1 and the reference's K range apply to it."""
+        """Whether its coefficient is the viscoelastic model's K (form ``half``).
+
+        The paper's series, the ladder refined by sqrt(K) above K = 1 and the reference's K range apply
+        to it.
+
+        Returns
+        -------
+        bool
+        """
         return self.power == 0.5
 
     def restitution_at(self, coefficient: float, criterion: str, V) -> np.ndarray:
-        """eps at impact velocities `V` [m/s] of the collision whose coefficient is `coefficient` at
-        1 m/s (the physical law fixed): the coefficient times V^`velocity_exponent` at each."""
+        """eps at impact velocities `V` of the collision whose coefficient is `coefficient` at 1 m/s.
+
+        The physical law fixed: the coefficient times V^`velocity_exponent` at each.
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient at V = 1 m/s, in the reference's units (K, b or c) [-].
+        criterion : str
+            The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+            force first returns to zero) [-].
+        V : float or array_like
+            The impact velocities [m/s].
+
+        Returns
+        -------
+        numpy.ndarray
+            The restitution coefficient at each V [-].
+        """
         V = np.asarray(V, dtype=float)
         return np.array([self.restitution(coefficient * v**self.velocity_exponent, criterion) for v in V])
 
@@ -124,8 +164,20 @@ class DampingForm:
         return tuple(sorted({1.0, 1.0 + p, 2.0, 2.0 + p, 2.5} if p else {1.0, 2.0, 2.5, 3.0}))
 
     def equation(self, value: str | None = None) -> str:
-        """Its head-on collision's equation, in the reference's units: "x'' + K x^(1/2) x' + (5/4)
-        x^(3/2) = 0"; `value` in place of the coefficient's letter when given."""
+        """Its head-on collision's equation, in the reference's units.
+
+        E.g. "x'' + K x^(1/2) x' + (5/4) x^(3/2) = 0".
+
+        Parameters
+        ----------
+        value : str or None
+            Written in place of the coefficient's letter when given [-].
+
+        Returns
+        -------
+        str
+            The equation.
+        """
         c = value if value is not None else self.symbol
         if self.power is None:
             return "x'' + (5/4) x^(3/2) = 0"
@@ -134,12 +186,37 @@ class DampingForm:
         return f"x'' + {c} x^({_fraction(self.power)}) x' + (5/4) x^(3/2) = 0"
 
     def solve(self, coefficient: float) -> dict:
-        """The reference characteristics of its collision at `coefficient` [-]: a row with x_max,
-        tau_0, tau_f, eps_x0 and eps_F0 (the reference's units), from the form's solver."""
+        """The reference characteristics of its collision at `coefficient`.
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient c of c x^p x' in the reference's units (K, b or c) [-].
+
+        Returns
+        -------
+        dict
+            A row with x_max [delta_e], tau_0 and tau_f [delta_e/V], eps_x0 and eps_F0 [-] (the
+            reference's units), from the form's solver.
+        """
         raise NotImplementedError
 
     def restitution(self, coefficient: float, criterion: str) -> float:
-        """The restitution of its collision at `coefficient` [-] under `criterion` ('x0' or 'F0')."""
+        """The restitution of its collision at `coefficient` under `criterion`.
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient c of c x^p x' in the reference's units (K, b or c) [-].
+        criterion : str
+            The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+            force first returns to zero) [-].
+
+        Returns
+        -------
+        float
+            The restitution coefficient [-].
+        """
         return float(self.solve(coefficient)[f"eps_{criterion}"])
 
 
@@ -155,16 +232,67 @@ class HalfPower(DampingForm):
     velocity_exponent = 0.2
 
     def ladder_powers(self, coefficient: float = 1.0) -> tuple[float, ...]:
-        """1, 3/2, 2, 5/2, 3 (tests/test_ladder.py measures the first three on the map)."""
+        """1, 3/2, 2, 5/2, 3 (tests/test_ladder.py measures the first three on the map).
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient [-]; 0 (no damping) gives `ELASTIC_POWERS`.
+
+        Returns
+        -------
+        tuple of float
+            The powers of h = dt/T_e [-], in increasing order.
+        """
         return ELASTIC_POWERS if coefficient == 0 else (1.0, 1.5, 2.0, 2.5, 3.0)
 
     def solve(self, coefficient: float) -> dict:
+        """The viscoelastic collision at K, by `reference.solve_collision`.
+
+        Parameters
+        ----------
+        coefficient : float
+            The dissipation parameter K, in [0, 10] [-].
+
+        Returns
+        -------
+        dict
+            A row with x_max [delta_e], tau_0 and tau_f [delta_e/V], eps_x0 and eps_F0 [-] (the
+            reference's units), from the form's solver.
+
+        References
+        ----------
+        Brilliantov, N. V., Spahn, F., Hertzsch, J.-M. & Poeschel, T. (1996). Model for collisions in
+        granular gases. Phys. Rev. E 53, 5382.
+        Kuwabara, G. & Kono, K. (1987), the dissipative force (cited as [Kuwabara87] by He & Wettlaufer).
+        """
         from reference import solve_collision
 
         return solve_collision(coefficient)
 
     def restitution_at(self, coefficient, criterion, V):
-        """As `DampingForm.restitution_at`, the whole batch of K in one solve."""
+        """As `DampingForm.restitution_at`, the whole batch of K in one solve.
+
+        Parameters
+        ----------
+        coefficient : float
+            The dissipation parameter K at V = 1 m/s [-].
+        criterion : str
+            The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+            force first returns to zero) [-].
+        V : float or array_like
+            The impact velocities [m/s].
+
+        Returns
+        -------
+        numpy.ndarray
+            The restitution coefficient at each V [-].
+
+        References
+        ----------
+        He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+        the Hertz scales and K, eqs. 1 and 3.
+        """
         from reference import solve_collisions
 
         return np.asarray(getattr(solve_collisions(coefficient * np.asarray(V, dtype=float) ** 0.2),
@@ -178,15 +306,64 @@ class QuarterPower(DampingForm):
     name, power, symbol, label, eps_of_velocity = "quarter", 0.25, "b", "δ^¼ δ'", "constant"
 
     def ladder_powers(self, coefficient: float = 1.0) -> tuple[float, ...]:
-        """1, 5/4, 2, 9/4, 5/2 (measured on every code's keyword, tests/test_engine_keywords.py)."""
+        """1, 5/4, 2, 9/4, 5/2 (measured on every code's keyword, tests/test_engine_keywords.py).
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient [-]; 0 (no damping) gives `ELASTIC_POWERS`.
+
+        Returns
+        -------
+        tuple of float
+            The powers of h = dt/T_e [-], in increasing order.
+        """
         return ELASTIC_POWERS if coefficient == 0 else (1.0, 1.25, 2.0, 2.25, 2.5)
 
     def solve(self, coefficient: float) -> dict:
+        """The Tsuji-type collision at b, by `reference.quarter_power_damping.solve_quarter_power`.
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient b of b x^{1/4} x', >= 0 [-].
+
+        Returns
+        -------
+        dict
+            A row with x_max [delta_e], tau_0 and tau_f [delta_e/V], eps_x0 and eps_F0 [-] (the
+            reference's units), from the form's solver.
+
+        References
+        ----------
+        Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+        cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
+        """
         from reference.quarter_power_damping import solve_quarter_power
 
         return solve_quarter_power(coefficient)
 
     def restitution(self, coefficient: float, criterion: str) -> float:
+        """The restitution at b in closed form (`reference.quarter_power_damping`).
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient b of b x^{1/4} x', >= 0 [-].
+        criterion : str
+            The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+            force first returns to zero) [-].
+
+        Returns
+        -------
+        float
+            The restitution coefficient [-].
+
+        References
+        ----------
+        Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+        cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
+        """
         from reference.quarter_power_damping import restitution_quarter_power
 
         return restitution_quarter_power(coefficient, criterion)
@@ -202,14 +379,54 @@ class LinearDashpot(DampingForm):
     velocity_exponent = -0.2
 
     def ladder_powers(self, coefficient: float = 1.0) -> tuple[float, ...]:
+        """1, 2, 5/2, 3: whole powers of h plus Hertz's h^{5/2}.
+
+        Parameters
+        ----------
+        coefficient : float
+            The damping coefficient [-]; 0 (no damping) gives `ELASTIC_POWERS`.
+
+        Returns
+        -------
+        tuple of float
+            The powers of h = dt/T_e [-], in increasing order.
+        """
         return ELASTIC_POWERS if coefficient == 0 else (1.0, 2.0, 2.5, 3.0)
 
     def solve(self, coefficient: float) -> dict:
+        """The linear-dashpot collision at c, by `reference.linear_damping.solve_linear_damping`.
+
+        Parameters
+        ----------
+        coefficient : float
+            The dashpot coefficient c, >= 0 [-].
+
+        Returns
+        -------
+        dict
+            A row with x_max [delta_e], tau_0 and tau_f [delta_e/V], eps_x0 and eps_F0 [-] (the
+            reference's units), from the form's solver.
+        """
         from reference.linear_damping import solve_linear_damping
 
         return solve_linear_damping(coefficient)
 
     def restitution(self, coefficient: float, criterion: str) -> float:
+        """The restitution at c (`reference.linear_damping`).
+
+        Parameters
+        ----------
+        coefficient : float
+            The dashpot coefficient c, >= 0 [-].
+        criterion : str
+            The end-of-collision criterion: 'x0' (the overlap returns to zero) or 'F0' (the contact
+            force first returns to zero) [-].
+
+        Returns
+        -------
+        float
+            The restitution coefficient [-].
+        """
         from reference.linear_damping import restitution_linear_damping
 
         return restitution_linear_damping(coefficient, criterion)
@@ -222,13 +439,42 @@ class NoDamping(DampingForm):
     name, power, symbol, label, eps_of_velocity = "none", None, "", "none", "none"
 
     def solve(self, coefficient: float = 0.0) -> dict:
+        """Hertz's collision (K = 0), whatever the coefficient.
+
+        Parameters
+        ----------
+        coefficient : float
+            Ignored: there is no damping [-].
+
+        Returns
+        -------
+        dict
+            A row with x_max [delta_e], tau_0 and tau_f [delta_e/V], eps_x0 and eps_F0 [-] (the
+            reference's units), from the form's solver.
+        """
         from reference import solve_collision
 
         return solve_collision(0.0)
 
 
 def damping_form(name: str) -> DampingForm:
-    """The registered form `name`; ValueError naming the known forms otherwise."""
+    """The registered form `name`.
+
+    Parameters
+    ----------
+    name : str
+        The form's registry name ('half', 'quarter', 'velocity', 'none').
+
+    Returns
+    -------
+    DampingForm
+        The registered instance.
+
+    Raises
+    ------
+    ValueError
+        Naming the known forms, for an unknown name.
+    """
     try:
         return DAMPING_FORMS[name]
     except KeyError:

@@ -10,21 +10,77 @@ import math
 
 
 def effective_modulus(young_1: float, poisson_1: float, young_2: float, poisson_2: float) -> float:
-    """E* = 1 / [(1 - nu1^2)/Y1 + (1 - nu2^2)/Y2]   [Pa]. A rigid body has Y = inf."""
+    """E* = 1 / [(1 - nu1^2)/Y1 + (1 - nu2^2)/Y2]. A rigid body has Y = inf.
+
+    Parameters
+    ----------
+    young_1 : float
+        Young's modulus Y1 of body 1 [Pa].
+    poisson_1 : float
+        Poisson's ratio nu1 of body 1 [-].
+    young_2 : float
+        Young's modulus Y2 of body 2 (inf: rigid) [Pa].
+    poisson_2 : float
+        Poisson's ratio nu2 of body 2 [-].
+
+    Returns
+    -------
+    float
+        The effective modulus E* [Pa].
+    """
     compliance = (1.0 - poisson_1**2) / young_1 + (1.0 - poisson_2**2) / young_2
     return 1.0 / compliance
 
 
 def effective_radius(radius_1: float, radius_2: float = math.inf) -> float:
-    """R* = R1 R2 / (R1 + R2)   [m]; R2 = inf (a plane) gives R* = R1."""
+    """R* = R1 R2 / (R1 + R2); R2 = inf (a plane) gives R* = R1.
+
+    Parameters
+    ----------
+    radius_1 : float
+        The radius R1 of body 1 [m].
+    radius_2 : float
+        The radius R2 of body 2 (inf: a plane) [m].
+
+    Returns
+    -------
+    float
+        The effective radius R* [m].
+    """
     return 1.0 / (1.0 / radius_1 + 1.0 / radius_2)
 
 
 def effective_mass(mass_1: float, mass_2: float = math.inf) -> float:
-    """M* = m1 m2 / (m1 + m2)   [kg]; m2 = inf (a plane) gives M* = m1."""
+    """M* = m1 m2 / (m1 + m2); m2 = inf (a plane) gives M* = m1.
+
+    Parameters
+    ----------
+    mass_1 : float
+        The mass m1 of body 1 [kg].
+    mass_2 : float
+        The mass m2 of body 2 (inf: a plane) [kg].
+
+    Returns
+    -------
+    float
+        The effective mass M* [kg].
+    """
     return 1.0 / (1.0 / mass_1 + 1.0 / mass_2)
 
 
 def sphere_mass(radius: float, density: float) -> float:
-    """m = (4/3) pi R^3 rho   [kg]."""
+    """m = (4/3) pi R^3 rho.
+
+    Parameters
+    ----------
+    radius : float
+        The sphere's radius R [m].
+    density : float
+        The sphere's density rho [kg/m^3].
+
+    Returns
+    -------
+    float
+        The mass m [kg].
+    """
     return 4.0 / 3.0 * math.pi * radius**3 * density

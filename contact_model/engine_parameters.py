@@ -34,17 +34,68 @@ import math
 
 
 def liggghts_hertz_stiffness(E: float, R: float, M: float, eta: float) -> dict[str, float]:
-    """{'kn': (4/3) E* [Pa], 'gamman': 2 eta / M* [1/(m s)]} for ``model hertz/stiffness``."""
+    """{'kn': (4/3) E* [Pa], 'gamman': 2 eta / M* [1/(m s)]} for ``model hertz/stiffness``.
+
+    Parameters
+    ----------
+    E : float
+        The effective modulus E* [Pa].
+    R : float
+        The effective radius R* [m].
+    M : float
+        The effective mass M* [kg].
+    eta : float
+        The effective viscosity [Pa s].
+
+    Returns
+    -------
+    dict of str to float
+        kn [Pa], gamman [1/(m s)].
+    """
     return {"kn": 4.0 / 3.0 * E, "gamman": 2.0 * eta / M}
 
 
 def yade_viscoelastic_hertz(E: float, R: float, M: float, eta: float) -> dict[str, float]:
-    """{'young': 2 E*, 'poisson': 0, 'c': 2 eta sqrt(R*) [Pa s m^{1/2}]} for the YADE driver."""
+    """{'young': 2 E*, 'poisson': 0, 'c': 2 eta sqrt(R*) [Pa s m^{1/2}]} for the YADE driver.
+
+    Parameters
+    ----------
+    E : float
+        The effective modulus E* [Pa].
+    R : float
+        The effective radius R* [m].
+    M : float
+        The effective mass M* [kg].
+    eta : float
+        The effective viscosity [Pa s].
+
+    Returns
+    -------
+    dict of str to float
+        young [Pa], poisson [-], c [Pa s m^{1/2}].
+    """
     return {"young": 2.0 * E, "poisson": 0.0, "c": 2.0 * eta * math.sqrt(R)}
 
 
 def lammps_granular_hertz(E: float, R: float, M: float, eta: float) -> dict[str, float]:
-    """{'kn': (4/3) E* [Pa], 'eta_n0': 2 eta / M* [1/(m s)]} for ``hertz`` + ``damping viscoelastic``."""
+    """{'kn': (4/3) E* [Pa], 'eta_n0': 2 eta / M* [1/(m s)]} for ``hertz`` + ``damping viscoelastic``.
+
+    Parameters
+    ----------
+    E : float
+        The effective modulus E* [Pa].
+    R : float
+        The effective radius R* [m].
+    M : float
+        The effective mass M* [kg].
+    eta : float
+        The effective viscosity [Pa s].
+
+    Returns
+    -------
+    dict of str to float
+        kn [Pa], eta_n0 [1/(m s)].
+    """
     return {"kn": 4.0 / 3.0 * E, "eta_n0": 2.0 * eta / M}
 
 
@@ -54,6 +105,22 @@ def kratos_hertz(E: float, R: float, M: float, eta: float) -> dict[str, float]:
     Kratos's effective modulus Y* = Y1 Y2 / (Y2 (1 - nu1^2) + Y1 (1 - nu2^2)) is then
     (2E*)^2 / (2 * 2E*) = E*, so that F_el = (2/3) (2 Y* sqrt(R* delta)) delta
     = (4/3) E* sqrt(R*) delta^{3/2} [N]. eta is not used: Kratos has no viscoelastic damping.
+
+    Parameters
+    ----------
+    E : float
+        The effective modulus E* [Pa].
+    R : float
+        The effective radius R* [m].
+    M : float
+        The effective mass M* [kg].
+    eta : float
+        The effective viscosity [Pa s].
+
+    Returns
+    -------
+    dict of str to float
+        young [Pa], poisson [-].
     """
     return {"young": 2.0 * E, "poisson": 0.0}
 
@@ -70,7 +137,24 @@ def esys_hertzian_viscoelastic(E: float, R: float, M: float, eta: float) -> dict
     sqrt(R*) gives A = 3 eta / (2 E*): the model's force exactly (ESyS then clips it at 0).
 
     ESyS's Hertz-Mindlin law with restitution damping (Model/HertzMindlinViscoInteraction.cpp)
-    uses its modulus as the effective one, F_el = (4/3) E sqrt(R*) delta^{3/2}: E = E*."""
+    uses its modulus as the effective one, F_el = (4/3) E sqrt(R*) delta^{3/2}: E = E*.
+
+    Parameters
+    ----------
+    E : float
+        The effective modulus E* [Pa].
+    R : float
+        The effective radius R* [m].
+    M : float
+        The effective mass M* [kg].
+    eta : float
+        The effective viscosity [Pa s].
+
+    Returns
+    -------
+    dict of str to float
+        E [Pa], nu [-], A [s], E_hertz_mindlin [Pa].
+    """
     return {"E": 2.0 * E, "nu": 0.0, "A": 3.0 * eta / (2.0 * E), "E_hertz_mindlin": E}
 
 
@@ -95,7 +179,23 @@ def esys_plane_as_sphere(R: float, ratio: float = ESYS_WALL_RADIUS_RATIO) -> dic
     wall's centre sits at x = R_wall, and the overlap R + R_wall - distance is rounded by about
     u R_wall (u = 2^-53) at every sample.
 
-    Returns {'R_wall' [m], 'R_star_esys' [m], 'modulus_factor' [-]}."""
+    Parameters
+    ----------
+    R : float
+        The radius of the sphere hitting the plane [m].
+    ratio : float
+        R_wall / R, finite and >= 1 [-].
+
+    Returns
+    -------
+    dict of str to float
+        R_wall [m], R_star_esys [m], modulus_factor [-].
+
+    Raises
+    ------
+    ValueError
+        For a ratio below 1 or not finite.
+    """
     if not (ratio >= 1 and math.isfinite(ratio)):
         raise ValueError(f"the wall's radius ratio must be a finite number of at least 1, got {ratio}")
     R_wall = ratio * R
