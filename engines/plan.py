@@ -37,6 +37,11 @@ A case the engines cannot run honestly is refused here, before any engine starts
   velocities of the study's K grid that fail this are not run, with the reason, like the
   too-fast ones;
 - an empty plan: nothing left to run once the too-fast and unresolvable velocities are out.
+
+The keywords' promise table (`keyword_table_plan`, snakemake keywords) and the history
+(`history_plan`, snakemake history) are planned here too, by the same helpers: a keyword told e
+is refused where its code refuses what it is told for e (`keyword_refusal`), and laddered and
+referenced as in the study (`keyword_ladder`); their Snakemake scripts only run and record.
 """
 
 from __future__ import annotations
@@ -54,7 +59,8 @@ from reference import solve_collision, solve_collisions
 from .codes import keyword_of, law_unavailable
 from .ladder import ladder_roundoff as roundoff_of_ladder
 from .ladder import powers_of, rung_factor
-from contact_model import LAW_REGISTRY, LAWS
+from contact_model import LAW_REGISTRY, LAWS, load_case
+from contact_model.laws import KEYWORD_LAWS
 
 from .run_spec import ENGINES, RunSpec
 
@@ -204,6 +210,26 @@ def told_restitution(keyword: str, match_K: float) -> float:
     return float(r["eps_x0"] if KEYWORDS[keyword].criterion == "x0" else r["eps_F0"])
 
 
+def keyword_refusal(keyword: str, e: float) -> str:
+    """Why `keyword`'s code refuses to be asked for restitution `e` ('' when it takes it): what it
+    is told, `Keyword.told_for(e)` (YADE's betan: Thornton's beta of e, 0 at e = 1), against the
+    range its code takes. The study's plan, the keywords' promise and the history refuse by this
+    alone (`keyword_promise_plan`)."""
+    k = KEYWORDS[keyword]
+    return k.refuses(k.told_for(e))
+
+
+def keyword_ladder(case_name: str, engine: str, law: str, keyword: str, pair, velocity: float, e: float, K: float,
+                   ladder: dict | None = None, build: str = "") -> list[RunSpec]:
+    """The ladder of a run of `law`, `engine`'s keyword `keyword` asked for restitution `e` at
+    `velocity` (K: the pair's there, which names and places the run): its reference row is the
+    keyword's own equation (`keyword_reference`), its time steps `ladder_factors` (refined by its
+    own K where its force is Brilliantov's, `keyword_own_K`)."""
+    row = keyword_reference(keyword, e, K)
+    return [RunSpec(case_name, engine, law, pair, velocity, f, matched_restitution=e, reference=row, build=build)
+            for f in ladder_factors(ladder or DEFAULT_LADDER, law, row["K"], keyword_own_K(keyword, row))]
+
+
 def build_codes(builds) -> dict[str, str]:
     """{build id: code} of `builds`: `engines.builds.Build`s, {id, code} mappings (the plan's
     settings), or bare codes (a build named as its code, e.g. in tests)."""
@@ -307,16 +333,17 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                     e = None
                     if keyword is not None:  # the engine's keyword, against its own equation
                         e = told if told is not None else told_restitution(keyword, match_K)
-                        refused = KEYWORDS[keyword].refuses(KEYWORDS[keyword].told_for(e))
+                        refused = keyword_refusal(keyword, e)
                         if refused:
                             plan.not_available.append({
                                 "build": build, "engine": engine, "law": law, "geometry": pair.geometry,
                                 "reason": f"told e = {e:.6g} at V = {v:.6g} m/s: {refused}"})
                             continue
-                        row = keyword_reference(keyword, e, row["K"])
-                    factors = ladder_factors(ladder, law, row["K"], keyword_own_K(keyword, row))
-                    plan.runs += [RunSpec(case.name, engine, law, pair, v, f, matched_restitution=e, reference=row,
-                                          build=build) for f in factors]
+                        plan.runs += keyword_ladder(case.name, engine, law, keyword, pair, v, e, row["K"], ladder,
+                                                    build)
+                        continue
+                    plan.runs += [RunSpec(case.name, engine, law, pair, v, f, reference=row, build=build)
+                                  for f in ladder_factors(ladder, law, row["K"])]
     left_out = [law for law in laws if law != "elastic"]
     if left_out and any(pair.eta == 0 for pair in case.pairs):
         plan.notes.append(f"{case.name}: the viscosity is 0, an elastic contact: only the law 'elastic' runs; "
@@ -469,3 +496,120 @@ def references_of(runs: list[RunSpec]) -> dict:
     """{K: reference row} of the runs that carry one: what `plan_at_velocity(..., solved=)`
     takes, to hand a plan's solutions on to a job (a Snakemake param) instead of solving again."""
     return {r.K: r.reference for r in runs if r.reference is not None}
+
+
+# The keywords' promise (snakemake keywords) and the history (snakemake history): their runs come
+# from here, by the helpers the study's plan uses (`keyword_refusal`, `keyword_ladder`,
+# `ladder_factors`), so that the three refuse and ladder alike.
+
+
+def promise_keywords(code: str, banner: str = "") -> tuple[dict[str, str], dict[str, str]]:
+    """({keyword: its law}, {keyword: why the release lacks it}) of `code`'s restitution keywords
+    (told e: their promise is eps = e) that are laws of the code (`contact_model.laws.KEYWORD_LAWS`:
+    the code's own, law ``default``, and the others that are laws of their own, e.g. LAMMPS's
+    ``coeff_restitution``), each under its first law; a keyword the release whose version banner is
+    `banner` predates (`missing_in`) is in the second ('': a release not known, none left out)."""
+    laws, missing = {}, {}
+    for law in KEYWORD_LAWS:
+        name = keyword_of(law, code)
+        if (name is None or law_unavailable(code, law) is not None or KEYWORDS[name].told != "e"
+                or name in laws or name in missing):
+            continue
+        why = missing_in(name, banner) if banner else None
+        if why:
+            missing[name] = why
+        else:
+            laws[name] = law
+    return laws, missing
+
+
+@dataclass
+class PromisePlan:
+    """The runs of keywords told restitutions: a ladder per (keyword, e), and the (keyword, e) its
+    code refuses (`keyword_refusal`) with the reason, not run (the engine would stop the sweep)."""
+
+    ladders: dict[tuple[str, float], list[RunSpec]] = field(default_factory=dict)
+    refused: dict[tuple[str, float], str] = field(default_factory=dict)
+
+    @property
+    def runs(self) -> list[RunSpec]:
+        return [r for rungs in self.ladders.values() for r in rungs]
+
+    def of(self, keyword: str) -> dict[float, list[RunSpec]]:
+        """{e: ladder} of one keyword."""
+        return {e: rungs for (name, e), rungs in self.ladders.items() if name == keyword}
+
+
+def keyword_promise_plan(case_name: str, engine: str, keywords: dict[str, str], pair, velocity: float,
+                         restitutions, ladder: dict | None = None, build: str = "") -> PromisePlan:
+    """Every keyword of `keywords` ({keyword: law}, `promise_keywords`) of `engine` told every e of
+    `restitutions` in the contact `pair` at `velocity`, a ladder each (`keyword_ladder`), but
+    what its code refuses (`keyword_refusal`, as the study's plan refuses it)."""
+    plan = PromisePlan()
+    K = pair.dissipation_parameter(velocity)
+    for name, law in keywords.items():
+        for e in map(float, restitutions):
+            refused = keyword_refusal(name, e)
+            if refused:
+                plan.refused[(name, e)] = refused
+            else:
+                plan.ladders[(name, e)] = keyword_ladder(case_name, engine, law, name, pair, velocity, e, K, ladder,
+                                                         build)
+    return plan
+
+
+def keyword_table_plan(keywords_settings: dict, engine: str, banner: str, ladder: dict | None = None,
+                       build: str = "") -> tuple[dict[str, str], PromisePlan]:
+    """The keywords' promise table of one build (config `keywords:`: its case, geometry, velocity
+    and restitutions): ({keyword: law} of the build's restitution keywords its release has, their
+    `keyword_promise_plan`, named 'keywords')."""
+    keywords, _ = promise_keywords(engine, banner)
+    pair = load_case(keywords_settings["case"]).pair(keywords_settings["geometry"])
+    return keywords, keyword_promise_plan("keywords", engine, keywords, pair, float(keywords_settings["velocity"]),
+                                          keywords_settings["restitution"], ladder, build)
+
+
+@dataclass
+class HistoryPlan:
+    """The runs of one release's checks in the history: a ladder of the viscoelastic laws per
+    check ({check: (criterion, ladder)}), the restitution keywords' promise, and the keywords
+    the release lacks ({keyword: why})."""
+
+    ladders: dict[str, tuple[str, list[RunSpec]]] = field(default_factory=dict)
+    keywords: dict[str, str] = field(default_factory=dict)
+    promise: PromisePlan = field(default_factory=PromisePlan)
+    missing: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def runs(self) -> list[RunSpec]:
+        return [r for _, rungs in self.ladders.values() for r in rungs] + self.promise.runs
+
+
+def history_plan(history: dict, engine: str, banner: str = "", ladder: dict | None = None,
+                 build: str = "") -> HistoryPlan:
+    """The runs of a release of `engine` in the history (config `history:`): each reduced case's
+    laws (those the code can express) at the case's own impacts, else at `history.K`, a ladder
+    each, criterion x0 with the tail kept, F0 clipped; its restitution keywords (`promise_keywords`)
+    told `history.restitution` in the first case's first contact at its first velocity
+    (`keyword_promise_plan`, named 'history')."""
+    plan = HistoryPlan()
+    cases = [load_case(path) for path in history["cases"]]
+    for case in cases:
+        for pair in case.pairs:
+            for law in history["laws"]:
+                if law_unavailable(engine, law) is not None:
+                    continue
+                velocities = case.impact_velocities(pair, history["K"])  # a case's own impacts, else history.K
+                for V in velocities:
+                    K = pair.dissipation_parameter(V)
+                    check = f"{law} {pair.geometry}" + (f" {case.name} K={K:.3g}"
+                                                         if len(cases) + len(velocities) > 2 else "")
+                    plan.ladders[check] = (LAW_REGISTRY[law].criteria[0],  # x0 with the tail kept, F0 clipped
+                                           [RunSpec(case.name, engine, law, pair, V, f, build=build)
+                                            for f in ladder_factors(ladder or DEFAULT_LADDER, law, K)])
+    plan.keywords, plan.missing = promise_keywords(engine, banner)
+    pair = cases[0].pairs[0]
+    V = cases[0].impact_velocities(pair, history["K"])[0]
+    plan.promise = keyword_promise_plan("history", engine, plan.keywords, pair, V, history["restitution"], ladder,
+                                        build)
+    return plan

@@ -10,13 +10,10 @@ from pathlib import Path
 import pandas as pd
 
 from common import log_to
-from contact_model import load_case
-from contact_model.keywords import KEYWORDS, keyword_reference, missing_in
-from contact_model.laws import KEYWORD_LAWS, LAW_REGISTRY
-from engines import RunSpec, run_sweep
+from contact_model.keywords import KEYWORDS
+from engines import run_sweep
 from engines.builds import Build
-from engines.codes import keyword_of, law_unavailable
-from engines.plan import keyword_own_K, ladder_factors
+from engines.plan import history_plan
 from postprocess.history import (COLUMNS, REGRESSION_CHECKS, banner_date, history_row, limit_check, not_run_rows,
                                  promise_check, promise_check_row)
 from postprocess.keyword_promise import promise_rows, sweep_metrics
@@ -34,43 +31,12 @@ base = {"code": code, "release": spec["release"], "build": (install["build"] or 
 rows = [history_row(base, "version banner", "fail" if install["problem"] else "pass",
                     install["problem"] or f"{install['banner']} (release {spec['release']})")]
 
-# The checks this release is asked for, each with its runs.
-ladders = {}  # check -> (criterion, [RunSpec])
-keywords = {}  # keyword -> {e: [RunSpec]}
-unavailable = {}  # check -> why not
-for path in h["cases"]:
-    case = load_case(path)
-    for pair in case.pairs:
-        for law in h["laws"]:
-            if law_unavailable(code, law) is not None:
-                continue
-            velocities = case.impact_velocities(pair, h["K"])  # a case's own impacts, else history.K
-            for V in velocities:
-                K = pair.dissipation_parameter(V)
-                check = f"{law} {pair.geometry}" + (f" {case.name} K={K:.3g}" if len(h["cases"]) + len(velocities) > 2
-                                                     else "")
-                ladders[check] = (LAW_REGISTRY[law].criteria[0],  # x0 with the tail kept, F0 clipped
-                                  [RunSpec(case.name, code, law, pair, V, f, build=base["build"])
-                                   for f in ladder_factors(snakemake.params.ladder, law, K)])
-first_case = load_case(h["cases"][0])
-for law_name in KEYWORD_LAWS:
-    name = keyword_of(law_name, code)
-    if name is None or law_unavailable(code, law_name) is not None or KEYWORDS[name].told != "e" or name in keywords:
-        continue
-    if install["banner"] and missing_in(name, install["banner"]):
-        unavailable[promise_check(name)] = missing_in(name, install["banner"])
-        continue
-    pair = first_case.pairs[0]
-    V = first_case.impact_velocities(pair, h["K"])[0]
-    keywords[name] = {}
-    for e in h["restitution"]:
-        if KEYWORDS[name].refuses(KEYWORDS[name].told_for(float(e))):
-            continue
-        row = keyword_reference(name, float(e), pair.dissipation_parameter(V))
-        keywords[name][float(e)] = [
-            RunSpec("history", code, law_name, pair, V, f, matched_restitution=float(e), build=base["build"],
-                    reference=row)
-            for f in ladder_factors(snakemake.params.ladder, law_name, 0.0, keyword_own_K(name, row))]
+# The checks this release is asked for, each with its runs (engines.plan.history_plan: as the study's plan
+# refuses and ladders them).
+plan = history_plan(h, code, install["banner"], snakemake.params.ladder, base["build"])
+ladders = plan.ladders  # check -> (criterion, [RunSpec])
+keywords = {name: plan.promise.of(name) for name in plan.keywords}  # keyword -> {e: [RunSpec]}
+unavailable = {promise_check(name): why for name, why in plan.missing.items()}  # check -> why not
 checks = [*ladders, *(REGRESSION_CHECKS.values() if code == "lammps" else ()),
           *(promise_check(k) for k in keywords), *unavailable]
 
@@ -82,8 +48,7 @@ if install["build"] is None or install["problem"]:
     Path(snakemake.output.runs).mkdir(parents=True, exist_ok=True)  # no runs: an empty folder says so
 else:
     build = Build(**install["build"])
-    runs = [r for _, rungs in ladders.values() for r in rungs]
-    runs += [r for by_e in keywords.values() for rungs in by_e.values() for r in rungs]
+    runs = plan.runs
     log.info("%s (%s): %d ladders, %d keywords, %d runs", build.id, install["banner"], len(ladders), len(keywords),
              len(runs))
     sweep = run_sweep(build, runs, f"{snakemake.output.runs}/cases", timeout_floor_s=snakemake.params.timeout_floor_s)

@@ -7,13 +7,10 @@ start_rule)."""
 import pandas as pd
 
 from common import log_to
-from contact_model import load_case
-from contact_model.keywords import KEYWORDS, keyword_reference, missing_in
-from contact_model.laws import KEYWORD_LAWS
-from engines import RunSpec, run_sweep
+from contact_model.keywords import KEYWORDS
+from engines import run_sweep
 from engines.builds import Build, check_build
-from engines.codes import keyword_of, law_unavailable
-from engines.plan import keyword_own_K, ladder_factors
+from engines.plan import keyword_table_plan
 from postprocess.keyword_promise import COLUMNS, promise_rows, sweep_metrics
 from records.run_manifest import write_manifest
 
@@ -21,30 +18,11 @@ log = log_to(snakemake.log[0])
 k = snakemake.params.keywords
 build = Build(**snakemake.params.build)
 banner = check_build(build)
-# Every restitution keyword of the build's code that its release has: the code's own (law
-# `default`) and the others that are laws of their own (LAMMPS 2025: tsuji and coeff_restitution).
-keywords = {}
-for law_name in KEYWORD_LAWS:
-    name = keyword_of(law_name, build.code)
-    if (law_unavailable(build.code, law_name) is None and name is not None and KEYWORDS[name].told == "e"
-            and not missing_in(name, banner)):
-        keywords.setdefault(name, law_name)
-pair = load_case(snakemake.input.case).pair(k["geometry"])
+# Every restitution keyword of the build's code that its release has, told every e, a ladder each, as the
+# study's plan refuses and ladders them (engines.plan.keyword_table_plan).
+keywords, plan = keyword_table_plan(k, build.code, banner, snakemake.params.ladder, build.id)
 V = float(k["velocity"])
-K = pair.dissipation_parameter(V)
-rungs, refused = {}, {}  # {(keyword, e): ladder}, {(keyword, e): why not run}
-for name, law_name in keywords.items():
-    keyword = KEYWORDS[name]
-    for e in k["restitution"]:
-        if keyword.refuses(float(e)):  # not run: the engine would stop the whole sweep there
-            refused[(name, float(e))] = keyword.refuses(float(e))
-            continue
-        row = keyword_reference(name, float(e), K)
-        rungs[(name, float(e))] = [RunSpec("keywords", build.code, law_name, pair, V, f, matched_restitution=float(e),
-                                           build=build.id, reference=row)
-                                   for f in ladder_factors(snakemake.params.ladder, law_name, K,
-                                                           keyword_own_K(name, row))]
-runs = [r for ladder in rungs.values() for r in ladder]
+runs = plan.runs
 log.info("%s (%s): %s told %d restitutions, %d runs into %s", build.id, banner, ", ".join(keywords),
          len(k["restitution"]), len(runs), snakemake.output.runs)
 sweep = run_sweep(build, runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s)
@@ -52,11 +30,10 @@ metrics, failures = sweep_metrics(sweep)
 rows = []
 for name in keywords:
     keyword = KEYWORDS[name]
-    rows += promise_rows(build.id, build.code, keyword, {e: ladder for (kw, e), ladder in rungs.items() if kw == name},
-                         metrics, failures)
+    rows += promise_rows(build.id, build.code, keyword, plan.of(name), metrics, failures)
     rows += [{"code": build.code, "build": build.id, "keyword": name, "e_requested": e, "V": V,
               "criterion": keyword.criterion, "problem": f"not run: {why}"}
-             for (kw, e), why in refused.items() if kw == name]
+             for (kw, e), why in plan.refused.items() if kw == name]
 pd.DataFrame(rows, columns=COLUMNS).to_csv(snakemake.output.rows, index=False, float_format="%.12g")
 write_manifest(snakemake.output.manifest, [sweep.dumps[r.name] for r in runs if r.name in sweep.dumps],
                sweep.failed_runs(runs), case="keywords", build=build.id, engine=build.code,
