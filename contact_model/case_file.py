@@ -101,14 +101,44 @@ class Case:
     restitution_dissipations: tuple[float, ...] = ()
 
     def pair(self, geometry: str) -> ContactPair:
+        """The case's contact pair of `geometry`.
+
+        Parameters
+        ----------
+        geometry : str
+            'sphere-sphere' or 'sphere-plane'.
+
+        Returns
+        -------
+        ContactPair
+
+        Raises
+        ------
+        KeyError
+            When the case has no contact of that geometry.
+        """
         for p in self.pairs:
             if p.geometry == geometry:
                 return p
         raise KeyError(f"case {self.name!r} has no {geometry} contact")
 
     def impact_velocities(self, pair: ContactPair, K_grid=()) -> list[float]:
-        """The impact velocities [m/s] of this case for one of its pairs: its own velocities,
-        or those giving its own K list, or those giving `K_grid` (the study's)."""
+        """The impact velocities of this case for one of its pairs.
+
+        Its own velocities, or those giving its own K list, or those giving `K_grid` (the study's).
+
+        Parameters
+        ----------
+        pair : ContactPair
+            One of the case's pairs (SI).
+        K_grid : sequence of float
+            The dissipation parameters used when the case gives neither velocities nor K [-].
+
+        Returns
+        -------
+        list of float
+            The impact velocities [m/s].
+        """
         if self.velocities:
             return list(self.velocities)
         return [pair.velocity_for_dissipation(k) for k in (self.K or tuple(K_grid))]
@@ -192,8 +222,21 @@ def _schema_problem(err, data) -> tuple[str, str]:
 
 
 def number_as_text_hint(text: str) -> str:
-    """Why a number in a case file arrived as text, and how to write it, for a `text` that is one
-    plain number: quoted ('0.8', "1"), or an exponent that YAML 1.1 reads as text (1e-1, 1.5E3)."""
+    """Why a number in a case file arrived as text, and how to write it.
+
+    For a `text` that is one plain number: quoted ('0.8', "1"), or an exponent that YAML 1.1 reads
+    as text (1e-1, 1.5E3).
+
+    Parameters
+    ----------
+    text : str
+        The value as YAML gave it.
+
+    Returns
+    -------
+    str
+        The hint, with its leading space.
+    """
     number = text.strip()
     if isinstance(yaml.safe_load(number), (int, float)):  # YAML reads it unquoted as a number: it was quoted
         return f" ({shown(text)} is in quotes, so it is text, not a number: write it without quotes, {number})"
@@ -286,11 +329,23 @@ def parse_case(data, path, project=None) -> Case:
 
     Parameters
     ----------
-    data : the YAML document, as `yaml.safe_load` gives it.
-    path : the case file (str or Path): named in every message; its folder is where a
-        `measurements:` path starts.
-    project : the folder a measurement file must lie in (symlinks followed); default
+    data : dict
+        The YAML document, as `yaml.safe_load` gives it (quantities as '<number> <unit>' strings).
+    path : str or pathlib.Path
+        The case file: named in every message; its folder is where a `measurements:` path starts.
+    project : str or pathlib.Path, optional
+        The folder a measurement file must lie in (symlinks followed); default
         `project_folder(path)`.
+
+    Returns
+    -------
+    Case
+        The case in SI units.
+
+    Raises
+    ------
+    CaseError
+        Naming the file and the field.
     """
     if not isinstance(data, dict):
         raise CaseError(path, "(top level)", f"a case file must be a YAML mapping of fields, got "
@@ -404,12 +459,17 @@ def _viscosity(pair, V: float, K: float, i: int, path) -> float:
 def restitution_variants(case: Case) -> list[tuple[float, Case]]:
     """Every restitution of `case` at every impact velocity, each with its own viscosity.
 
+    Parameters
+    ----------
+    case : Case
+        A case with `impact: restitution` (SI).
+
     Returns
     -------
     list of (restitution, Case)
         Restitution by restitution (the case's order), velocity by velocity within each: the
         case at that one impact velocity [m/s], each contact's eta [Pa s] set so that its
-        viscoelastic collision restitutes the restitution exactly there, under the case's
+        viscoelastic collision restitutes the restitution [-] exactly there, under the case's
         criterion, as an engine's restitution keyword restitutes it at every velocity (eta
         depends on V: K = f(eps) is fixed, eta ~ K V^{-1/5}). The variants have no restitutions
         of their own. A case without restitutions: [].
@@ -424,9 +484,21 @@ def restitution_variants(case: Case) -> list[tuple[float, Case]]:
 
 
 def project_folder(case_path) -> Path:
-    """The project folder of a case file, symlinks resolved: the nearest folder above it that holds
-    the study's Snakefile (the repository root, or a copy of the project), else `REPOSITORY_ROOT`
-    (the repository of this package). A case's measurement file must lie inside it."""
+    """The project folder of a case file, symlinks resolved.
+
+    The nearest folder above it that holds the study's Snakefile (the repository root, or a copy
+    of the project), else `REPOSITORY_ROOT` (the repository of this package). A case's measurement
+    file must lie inside it.
+
+    Parameters
+    ----------
+    case_path : str or pathlib.Path
+        The case file.
+
+    Returns
+    -------
+    pathlib.Path
+    """
     here = Path(os.path.abspath(str(case_path))).parent
     for folder in (here, *here.parents):
         if (folder / "Snakefile").is_file():
@@ -483,15 +555,16 @@ def load_case(path, project=None) -> Case:
 
     Parameters
     ----------
-    path : str or Path
+    path : str or pathlib.Path
         The case file: a regular file of at most `strict_yaml.MAX_BYTES` bytes (a device such as
         /dev/zero, a FIFO or a larger file is refused before it is read).
-    project : str or Path, optional
+    project : str or pathlib.Path, optional
         The folder a `measurements:` file must lie in; default `project_folder(path)`.
 
     Returns
     -------
     Case
+        The case in SI units.
 
     Raises
     ------

@@ -46,16 +46,46 @@ THORNTON_H = (-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11
 
 
 def log_beta(e: float, pi: float = math.pi) -> float:
-    """|beta| = -ln e / sqrt(ln^2 e + pi^2): the damping ratio of a linear spring-dashpot that
-    restitutes e (LIGGGHTS, LAMMPS coeff_restitution, ESyS HertzMindlinVisco, which writes pi as
-    3.1415926)."""
+    """|beta| = -ln e / sqrt(ln^2 e + pi^2): the damping ratio of a linear spring-dashpot that restitutes e.
+
+    As LIGGGHTS, LAMMPS coeff_restitution and ESyS HertzMindlinVisco (which writes pi as 3.1415926)
+    compute it.
+
+    Parameters
+    ----------
+    e : float
+        The restitution coefficient, 0 < e <= 1 [-].
+    pi : float
+        The value of pi the code writes [-].
+
+    Returns
+    -------
+    float
+        The damping ratio |beta| [-].
+    """
     lg = math.log(e)
     return -lg / math.sqrt(lg * lg + pi * pi)
 
 
 def thornton_beta(e: float) -> float:
-    """Thornton et al. (2013)'s (B6): beta = sqrt(1 / (1 - (1 + e)^2 exp(alpha(e))) - 1), the
-    fit YADE and Kratos use for a clipped Hertz contact (0 at e = 1)."""
+    """Thornton et al. (2013)'s (B6): beta = sqrt(1 / (1 - (1 + e)^2 exp(alpha(e))) - 1).
+
+    The fit YADE and Kratos use for a clipped Hertz contact (0 at e = 1).
+
+    Parameters
+    ----------
+    e : float
+        The requested restitution coefficient, 0 < e <= 1 [-].
+
+    Returns
+    -------
+    float
+        The damping ratio beta [-].
+
+    References
+    ----------
+    Thornton, C. et al. (2013), eq. (B6) and Table 2 (the coefficients h_1 ... h_10 of alpha(e)).
+    """
     if e >= 1.0:
         return 0.0
     alpha = 0.0
@@ -65,16 +95,50 @@ def thornton_beta(e: float) -> float:
 
 
 def kratos_gamma(e: float) -> float:
-    """Kratos's GammaForHertzThornton (sphere_strategy.py:617-637 @ 10.4.0): `thornton_beta` with
-    e raised to 0.001 below it and gamma = 0 above 0.999."""
+    """Kratos's GammaForHertzThornton (sphere_strategy.py:617-637 @ 10.4.0).
+
+    `thornton_beta` with e raised to 0.001 below it and gamma = 0 above 0.999.
+
+    Parameters
+    ----------
+    e : float
+        The requested restitution coefficient, 0 < e <= 1 [-].
+
+    Returns
+    -------
+    float
+        The damping ratio gamma [-].
+
+    References
+    ----------
+    Thornton, C. et al. (2013), eq. (B6) and Table 2 (the coefficients h_1 ... h_10 of alpha(e)).
+    """
     if e > 0.999:
         return 0.0
     return thornton_beta(max(e, 0.001))
 
 
 def lammps_tsuji_alpha(e: float) -> float:
-    """LAMMPS's `damping tsuji` alpha(e) (Marshall 2009's fit of Tsuji et al. 1992):
-    1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6."""
+    """LAMMPS's `damping tsuji` alpha(e) (Marshall 2009's fit of Tsuji et al. 1992).
+
+    1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6.
+
+    Parameters
+    ----------
+    e : float
+        The requested restitution coefficient, 0 < e <= 1 [-].
+
+    Returns
+    -------
+    float
+        alpha(e) [-].
+
+    References
+    ----------
+    Tsuji, Y., Tanaka, T. & Ishida, T. (1992). Lagrangian numerical simulation of plug flow of
+    cohesionless particles in a horizontal pipe. Powder Technol. 71, 239-250.
+    Marshall (2009), the polynomial fit of alpha(e) of Tsuji et al. (as the code cites it).
+    """
     return (1.2728 - 4.2783 * e + 11.087 * e**2 - 22.348 * e**3 + 27.467 * e**4 - 18.022 * e**5
             + 4.8218 * e**6)
 
@@ -86,15 +150,49 @@ YADE_PADE = ((1.0, 1.07232, 0.574198, 0.141552), (1.0, 1.07232, 1.72765, 1.37842
 
 
 def yade_pade_restitution(v: float) -> float:
-    """eps(v*) of YADE's Pade approximant (`YADE_PADE`)."""
+    """eps(v*) of YADE's Pade approximant (`YADE_PADE`).
+
+    Parameters
+    ----------
+    v : float
+        The scaled velocity v* >= 0 [-].
+
+    Returns
+    -------
+    float
+        The restitution coefficient [-].
+
+    References
+    ----------
+    Mueller, P. & Poeschel, T. (2011). Collision of viscoelastic spheres: compact expressions for the
+    coefficient of normal restitution. Phys. Rev. E 84, 021302.
+    """
     num, den = (sum(c * v**i for i, c in enumerate(cs)) for cs in YADE_PADE)
     return num / den
 
 
 @functools.lru_cache(maxsize=256)
 def yade_vstar(e: float) -> float:
-    """The v* >= 0 at which YADE's Pade gives e (YADE's getVstar solves the same equation by Newton
-    from 0.5 to machine precision, HertzMindlin.cpp:88-114 @2025.2.0); 0 at e = 1."""
+    """The v* >= 0 at which YADE's Pade gives e; 0 at e = 1.
+
+    YADE's getVstar solves the same equation by Newton from 0.5 to machine precision
+    (HertzMindlin.cpp:88-114 @2025.2.0).
+
+    Parameters
+    ----------
+    e : float
+        The requested restitution coefficient, 0 < e <= 1 [-].
+
+    Returns
+    -------
+    float
+        The scaled velocity v* [-].
+
+    References
+    ----------
+    Mueller, P. & Poeschel, T. (2011). Collision of viscoelastic spheres: compact expressions for the
+    coefficient of normal restitution. Phys. Rev. E 84, 021302.
+    """
     from scipy.optimize import brentq
 
     if e >= 1.0:
@@ -106,10 +204,32 @@ def yade_vstar(e: float) -> float:
 
 
 def yade_en_vn_K(e: float, velocity_ratio: float = 1.0) -> float:
-    """K of YADE's `en` + `vn` route: its force is Brilliantov's, F_d = (3/2) A k_no delta^{1/2}
-    d(delta)/dt with A = (2/3) beta (k_no/m)^(-2/5) (HertzMindlin.cpp:469-470), beta = v*(e)^2
-    vn^(-1/5); in the study's units K = (5/4)^{3/5} beta V^{1/5} = (5/4)^{3/5} v*(e)^2 (V/vn)^{1/5},
-    V/vn = `velocity_ratio` (1 when the user gives vn = the impact velocity)."""
+    """K of YADE's `en` + `vn` route.
+
+    Its force is Brilliantov's, F_d = (3/2) A k_no delta^{1/2} d(delta)/dt with
+    A = (2/3) beta (k_no/m)^(-2/5) (HertzMindlin.cpp:469-470), beta = v*(e)^2 vn^(-1/5); in the
+    study's units K = (5/4)^{3/5} beta V^{1/5} = (5/4)^{3/5} v*(e)^2 (V/vn)^{1/5}.
+
+    Parameters
+    ----------
+    e : float
+        The requested restitution coefficient, 0 < e <= 1 [-].
+    velocity_ratio : float
+        V/vn, the impact velocity over the velocity vn the user gives (1 when vn is the impact
+        velocity) [-].
+
+    Returns
+    -------
+    float
+        The dissipation parameter K [-].
+
+    References
+    ----------
+    Brilliantov, N. V., Spahn, F., Hertzsch, J.-M. & Poeschel, T. (1996). Model for collisions in
+    granular gases. Phys. Rev. E 53, 5382.
+    Mueller, P. & Poeschel, T. (2011). Collision of viscoelastic spheres: compact expressions for the
+    coefficient of normal restitution. Phys. Rev. E 84, 021302.
+    """
     return 1.25**0.6 * yade_vstar(e) ** 2 * velocity_ratio**0.2
 
 
@@ -165,17 +285,45 @@ class Keyword:
 
     @property
     def damping_form(self):
-        """Its `contact_model.damping_forms.DampingForm` (equation, solver, ladder powers)."""
+        """Its `contact_model.damping_forms.DampingForm` (equation, solver, ladder powers).
+
+        Returns
+        -------
+        DampingForm
+        """
         from contact_model.damping_forms import DAMPING_FORMS
 
         return DAMPING_FORMS[self.form]
 
     def told_for(self, e: float) -> float:
-        """The value the code is told for a requested restitution `e` (`from_restitution`)."""
+        """The value the code is told for a requested restitution `e` (`from_restitution`).
+
+        Parameters
+        ----------
+        e : float
+            The requested restitution coefficient, 0 < e <= 1 [-].
+
+        Returns
+        -------
+        float
+            e itself, or what the code is told in its place (e.g. YADE betan's beta) [-].
+        """
         return e if self.from_restitution is None else self.from_restitution(e)
 
     def refuses(self, told: float) -> str:
-        """Why the code refuses the told value ('' when it takes it)."""
+        """Why the code refuses the told value ('' when it takes it).
+
+        Parameters
+        ----------
+        told : float
+            The value the code is told: a restitution coefficient e, a damping ratio beta, or the
+            dimensionless dashpot coefficient c of a 'velocity' keyword [-].
+
+        Returns
+        -------
+        str
+            '' when low < told <= high (`accepts`), else the code's refusal in words.
+        """
         low, high = self.accepts
         if low < told <= high:
             return ""
@@ -183,14 +331,39 @@ class Keyword:
 
     @property
     def criterion(self) -> str:
-        """The end of contact its force allows: F0 when it clips, x0 when the tail is kept."""
+        """The end of contact its force allows: F0 when it clips, x0 when the tail is kept.
+
+        Returns
+        -------
+        str
+            'F0' or 'x0'.
+        """
         return "F0" if self.clipped else "x0"
 
     def b(self, told: float) -> float:
-        """The coefficient of its equation for the told value: b of x'' + b x^{1/4} x' + (5/4)
-        x^{3/2} = 0 (form 'quarter'), K of x'' + K x^{1/2} x' + (5/4) x^{3/2} = 0 (form 'half'), c of
-        x'' + c x' + (5/4) x^{3/2} = 0 (form 'velocity', told the dimensionless c itself: its code's
-        eta_n is c M* V / delta_e or c V / delta_e)."""
+        """The coefficient of its equation for the told value.
+
+        b of x'' + b x^{1/4} x' + (5/4) x^{3/2} = 0 (form 'quarter'), K of
+        x'' + K x^{1/2} x' + (5/4) x^{3/2} = 0 (form 'half'), c of x'' + c x' + (5/4) x^{3/2} = 0
+        (form 'velocity', told the dimensionless c itself: its code's eta_n is c M* V / delta_e or
+        c V / delta_e).
+
+        Parameters
+        ----------
+        told : float
+            The value the code is told: a restitution coefficient e, a damping ratio beta, or the
+            dimensionless dashpot coefficient c of a 'velocity' keyword [-].
+
+        Returns
+        -------
+        float
+            The coefficient b, K or c [-].
+
+        Raises
+        ------
+        ValueError
+            When the keyword has no map to the coefficient of its equation.
+        """
         if self.coefficient is None:
             raise ValueError(f"{self.name} has no map to the coefficient of its equation")
         return self.coefficient(told)
@@ -267,9 +440,23 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
 
 
 def promised_restitution(keyword: str, e: float) -> float:
-    """What `keyword`'s own equation restitutes when asked for `e` (told `Keyword.told_for(e)`),
-    exactly, under the criterion its force allows (`Keyword.criterion`); its promise error is
-    this minus e."""
+    """What `keyword`'s own equation restitutes when asked for `e` (told `Keyword.told_for(e)`).
+
+    Exactly, under the criterion its force allows (`Keyword.criterion`); its promise error is this
+    minus e.
+
+    Parameters
+    ----------
+    keyword : str
+        The keyword's registry name, '<code>:<keyword>' (`KEYWORDS`).
+    e : float
+        The requested restitution coefficient, 0 < e <= 1 [-].
+
+    Returns
+    -------
+    float
+        The restitution coefficient its equation delivers [-].
+    """
     k = KEYWORDS[keyword]
     return k.damping_form.restitution(k.b(k.told_for(e)), k.criterion)
 
@@ -279,8 +466,20 @@ MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", 
 
 
 def release_date(banner: str) -> tuple[int, int, int] | None:
-    """(year, month, day) of a version banner that dates its release ('LAMMPS (29 Sep 2021 -
-    Update 2)'; 'Yade version: 2025.2.0' is (2025, 2, 1)), None when it names no date."""
+    """(year, month, day) of a version banner that dates its release.
+
+    'LAMMPS (29 Sep 2021 - Update 2)' is (2021, 9, 29); 'Yade version: 2025.2.0' is (2025, 2, 1).
+
+    Parameters
+    ----------
+    banner : str
+        The engine's version banner.
+
+    Returns
+    -------
+    tuple of int or None
+        (year, month, day), None when the banner names no date.
+    """
     import re
 
     m = re.search(r"\b(\d{1,2}) (" + "|".join(MONTHS) + r")[a-z]* (\d{4})\b", banner)
@@ -291,8 +490,22 @@ def release_date(banner: str) -> tuple[int, int, int] | None:
 
 
 def missing_in(keyword: str, banner: str) -> str | None:
-    """Why the build whose version banner is `banner` lacks `keyword` (its release predates the
-    keyword's `since`), None when it has it or its release is not dated."""
+    """Why the build whose version banner is `banner` lacks `keyword`.
+
+    Its release predates the keyword's `since`.
+
+    Parameters
+    ----------
+    keyword : str
+        The keyword's registry name, '<code>:<keyword>' (`KEYWORDS`).
+    banner : str
+        The build's version banner.
+
+    Returns
+    -------
+    str or None
+        The reason in words; None when the build has it or its release is not dated.
+    """
     k = KEYWORDS[keyword]
     date = release_date(banner)
     if k.since is None or date is None or date >= k.since:
@@ -302,12 +515,29 @@ def missing_in(keyword: str, banner: str) -> str | None:
 
 
 def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
-    """The reference row of a run of `keyword` asked for restitution `told` (its code is given
-    `Keyword.told_for(told)`; `reference.quarter_power_damping`'s
-    characteristics of its own equation, in the fields of a `reference.CollisionTable` row), with
-    the run's viscoelastic K (its name and plots place it by it), the keyword's b, and tau_return:
-    where the overlap of a clipped run returns to zero in free flight after the force vanished
-    (x^{5/4} = (4b/5) eps_F0 there), the length its engine run must cover."""
+    """The reference row of a run of `keyword` asked for restitution `told`.
+
+    Its code is given `Keyword.told_for(told)`; `reference.quarter_power_damping`'s characteristics
+    of its own equation, in the fields of a `reference.CollisionTable` row, with the run's
+    viscoelastic K (its name and plots place it by it), the keyword's b, and tau_return: where the
+    overlap of a clipped run returns to zero in free flight after the force vanished
+    (x^{5/4} = (4b/5) eps_F0 there), the length its engine run must cover.
+
+    Parameters
+    ----------
+    keyword : str
+        The keyword's registry name, '<code>:<keyword>' (`KEYWORDS`).
+    told : float
+        The requested restitution coefficient (or the dimensionless c of a 'velocity' keyword) [-].
+    K : float
+        The run's viscoelastic dissipation parameter [-].
+
+    Returns
+    -------
+    dict
+        The row, in the reference's units (lengths of delta_e, times of delta_e/V; eps, b and K
+        [-]).
+    """
     return {**_own_row(keyword, float(told)), "K": float(K)}
 
 
@@ -335,5 +565,11 @@ def _own_row(keyword: str, told: float) -> dict:
 
 
 def restitution_keywords() -> list[str]:
-    """The keywords told a restitution coefficient (their promise: eps = e)."""
+    """The keywords told a restitution coefficient (their promise: eps = e).
+
+    Returns
+    -------
+    list of str
+        Their registry names.
+    """
     return [name for name, k in KEYWORDS.items() if k.told == "e"]

@@ -99,13 +99,23 @@ class Law:
 
     @property
     def form(self) -> DampingForm | None:
-        """Its damping form (`contact_model.damping_forms`): what its equation, reference solver
-        and ladder powers are; None for ``default``, whose form is each code's keyword's."""
+        """Its damping form (`contact_model.damping_forms`): what its equation, reference solver and
+        ladder powers are; None for ``default``, whose form is each code's keyword's.
+
+        Returns
+        -------
+        DampingForm or None
+        """
         return None if self.damping == "keyword" else DAMPING_FORMS[self.damping]
 
     @property
     def is_keyword(self) -> bool:
-        """Whether it runs an engine's keyword (``default`` or a named one), told a restitution."""
+        """Whether it runs an engine's keyword (``default`` or a named one), told a restitution.
+
+        Returns
+        -------
+        bool
+        """
         return self.told == "e"
 
 
@@ -144,7 +154,23 @@ LAW_CRITERIA = {name: law.criteria for name, law in LAW_REGISTRY.items() if law.
 
 
 def law(name: str) -> Law:
-    """The registry's entry `name`; ValueError naming the known laws otherwise."""
+    """The registry's entry `name`.
+
+    Parameters
+    ----------
+    name : str
+        The law's name ('viscoelastic', 'viscoelastic_clipped', 'elastic', 'default', ...).
+
+    Returns
+    -------
+    Law
+        The registered law.
+
+    Raises
+    ------
+    ValueError
+        Naming the known laws, for an unknown name.
+    """
     try:
         return LAW_REGISTRY[name]
     except KeyError:

@@ -113,7 +113,17 @@ class Measurements:
         return len(self.velocity)
 
     def where(self, i: int) -> str:
-        """'row i+1 (line n)' of the i-th data row (0-based)."""
+        """'row i+1 (line n)' of the i-th data row (0-based), for messages.
+
+        Parameters
+        ----------
+        i : int
+            The index of the data row, 0-based [-].
+
+        Returns
+        -------
+        str
+        """
         return f"row {i + 1} (line {self.lines[i]})"
 
 
@@ -179,7 +189,25 @@ def _header(cells: list[str], path, line: int) -> dict[str, tuple[int, float | N
 
 
 def parse_measurements(text: str, path) -> Measurements:
-    """Validate the text of measurement file `path` (used in messages); see the module docstring."""
+    """Validate the text of measurement file `path`; see the module docstring.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    path : str or pathlib.Path
+        The file, named in every message.
+
+    Returns
+    -------
+    Measurements
+        The impact velocities [m/s] and restitution coefficients [-] in SI, in file order.
+
+    Raises
+    ------
+    MeasurementError
+        Naming the file, the row and the problem.
+    """
     comments, rows = [], []
     for number, raw in enumerate(io.StringIO(text), start=1):
         stripped = raw.strip()
@@ -244,8 +272,21 @@ def parse_measurements(text: str, path) -> Measurements:
 
 
 def distinct_velocities(velocity) -> int:
-    """How many distinct impact velocities there are, equal to 12 significant digits counting as one
-    (200 cm/s and 2 m/s are one velocity, whatever the conversion's last bit)."""
+    """How many distinct impact velocities there are.
+
+    Equal to 12 significant digits counting as one (200 cm/s and 2 m/s are one velocity, whatever
+    the conversion's last bit).
+
+    Parameters
+    ----------
+    velocity : sequence of float
+        The impact velocities [m/s].
+
+    Returns
+    -------
+    int
+        The number of distinct velocities.
+    """
     return len({float(f"{v:.12g}") for v in velocity})
 
 
@@ -259,7 +300,23 @@ def _too_few(what: str) -> str:
 
 
 def load_measurements(path) -> Measurements:
-    """Read and validate a measurement file (UTF-8 CSV; see the module docstring)."""
+    """Read and validate a measurement file (UTF-8 CSV; see the module docstring).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The measurement file.
+
+    Returns
+    -------
+    Measurements
+        The impact velocities [m/s] and restitution coefficients [-] in SI, in file order.
+
+    Raises
+    ------
+    MeasurementError
+        Naming the file, the row and the problem.
+    """
     path = Path(path)
     return parse_measurements(read_utf8(path, MeasurementError, MAX_BYTES, "a measurement file is a few thousand"),
                               path)

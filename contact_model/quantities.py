@@ -16,10 +16,17 @@ import re
 
 @functools.lru_cache(maxsize=None)
 def units():
-    """pint's unit registry, built on first use: building it (and importing pint) takes about
-    half a second, which every workflow rule that merely imports contact_model would pay.
-    pint keeps its parsed definitions in the user's cache folder (`cache_folder=":auto:"`):
-    the registry then builds in 0.03 s instead of 0.3 s, at every start of the workflow."""
+    """pint's unit registry, built on first use.
+
+    Building it (and importing pint) takes about half a second, which every workflow rule that
+    merely imports contact_model would pay. pint keeps its parsed definitions in the user's cache
+    folder (`cache_folder=":auto:"`): the registry then builds in 0.03 s instead of 0.3 s, at every
+    start of the workflow.
+
+    Returns
+    -------
+    pint.UnitRegistry
+    """
     import pint
 
     try:
@@ -54,8 +61,23 @@ SUGGESTIONS = 3
 
 
 def edit_distance(a: str, b: str) -> int:
-    """The optimal-string-alignment distance: insertions, deletions, substitutions and swaps of
-    two neighbouring letters ('mn' -> 'nm') each count one."""
+    """The optimal-string-alignment distance between two strings.
+
+    Insertions, deletions, substitutions and swaps of two neighbouring letters ('mn' -> 'nm') each
+    count one.
+
+    Parameters
+    ----------
+    a : str
+        The first string.
+    b : str
+        The second string.
+
+    Returns
+    -------
+    int
+        The distance [edits].
+    """
     d = [[i + j if i * j == 0 else 0 for j in range(len(b) + 1)] for i in range(len(a) + 1)]
     for i in range(1, len(a) + 1):
         for j in range(1, len(b) + 1):
@@ -66,11 +88,26 @@ def edit_distance(a: str, b: str) -> int:
 
 
 def did_you_mean(unit_text: str, dimension: str) -> str:
-    """' (did you mean 'MPa'?)' for a unit that is a common unit of `dimension` (the field's: a
-    suggestion is always of the right size kind) but for its letters' case ('Mpa'); else the common
-    units one edit from it (a letter added, dropped, changed, or two swapped), the closest in
-    spelling first -- same first letter, then same length -- up to SUGGESTIONS of them: '5 mn' as a
-    length gives ' (did you mean 'mm', 'm' or 'nm'?)'; else difflib's closest; '' when none is close."""
+    """' (did you mean 'MPa'?)' for a misspelt unit of `dimension`.
+
+    For a unit that is a common unit of `dimension` (the field's: a suggestion is always of the
+    right size kind) but for its letters' case ('Mpa'); else the common units one edit from it (a
+    letter added, dropped, changed, or two swapped), the closest in spelling first -- same first
+    letter, then same length -- up to SUGGESTIONS of them: '5 mn' as a length gives
+    ' (did you mean 'mm', 'm' or 'nm'?)'; else difflib's closest; '' when none is close.
+
+    Parameters
+    ----------
+    unit_text : str
+        The unit as the file writes it.
+    dimension : str
+        The field's pint dimensionality, a key of `COMMON_UNITS` (e.g. '[pressure]').
+
+    Returns
+    -------
+    str
+        The suggestion, with its leading space, or ''.
+    """
     options = COMMON_UNITS.get(dimension, ())
     same = [u for u in options if u.lower() == unit_text.lower()]
     if same:
@@ -95,13 +132,40 @@ QUANTITY = re.compile(rf"({NUMBER}) ({UNIT})")
 PLAIN_NUMBER = re.compile(NUMBER)
 
 def written_unit(value: str) -> str:
-    """The unit of a quantity string as its file writes it ('6.7e5 P' -> 'P'), for a value that
-    `quantity` has read."""
+    """The unit of a quantity string as its file writes it ('6.7e5 P' -> 'P').
+
+    For a value that `quantity` has read.
+
+    Parameters
+    ----------
+    value : str
+        The quantity string, '<number> <unit>'.
+
+    Returns
+    -------
+    str
+        Its unit.
+    """
     return QUANTITY.fullmatch(value)[2]
 
 
 def in_unit(value: float, unit: str, target: str) -> float:
-    """`value` [unit] expressed in `target` (a unit pint reads, e.g. a file's own 'mPa*s')."""
+    """`value` [unit] expressed in `target`.
+
+    Parameters
+    ----------
+    value : float
+        The magnitude, in `unit` [unit].
+    unit : str
+        Its unit, as pint reads it (e.g. 'Pa*s').
+    target : str
+        The unit to express it in, as pint reads it (e.g. a file's own 'mPa*s').
+
+    Returns
+    -------
+    float
+        The magnitude in `target` [target].
+    """
     return float(units().Quantity(value, unit).to(target).magnitude)
 
 
@@ -114,9 +178,24 @@ MAX_QUANTITY_CHARS = 100
 
 
 def shown(value, limit: int = SHOWN_CHARS) -> str:
-    """`value` as a message repeats it: its repr (control characters, NUL and invisible format
-    characters escaped), cut to `limit` characters with its full length said.
+    """`value` as a message repeats it.
 
+    Its repr (control characters, NUL and invisible format characters escaped), cut to `limit`
+    characters with its full length said.
+
+    Parameters
+    ----------
+    value : object
+        The value to repeat.
+    limit : int
+        The most characters repeated [characters].
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
     >>> shown("0,8 P")
     "'0,8 P'"
     """
@@ -128,8 +207,20 @@ def shown(value, limit: int = SHOWN_CHARS) -> str:
 
 
 def field_text(key) -> str:
-    """A key of a file as a field name in a message: itself when it is a short name (letters, digits,
-    '_', '-', '.', spaces), else `shown` (escaped and cut)."""
+    """A key of a file as a field name in a message.
+
+    Itself when it is a short name (letters, digits, '_', '-', '.', spaces), else `shown` (escaped
+    and cut).
+
+    Parameters
+    ----------
+    key : object
+        The key as the file gives it.
+
+    Returns
+    -------
+    str
+    """
     text = str(key)
     return text if re.fullmatch(r"[\w .-]{1,60}", text) else shown(key)
 
@@ -149,7 +240,20 @@ def _dimension(name: str) -> tuple[str, str]:
 
 
 def not_a_quantity(value, name: str) -> str:
-    """The problem with a value of field `name` that is not a quantity string at all."""
+    """The problem with a value of field `name` that is not a quantity string at all.
+
+    Parameters
+    ----------
+    value : object
+        The value the file gives.
+    name : str
+        The field's path, e.g. 'radius' or 'bodies[0].young'.
+
+    Returns
+    -------
+    str
+        The problem in words, with an example in the field's SI unit.
+    """
     si_unit = _dimension(name)[1]
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         return f"{value!r} has no unit; write it as e.g. '{value} {si_unit}'"
@@ -157,9 +261,31 @@ def not_a_quantity(value, name: str) -> str:
 
 
 def quantity(value, name: str, path) -> float:
-    """Convert a '<number> <unit>' string to SI for field `name` (a path such as 'radius' or
-    'bodies[0].young'; its last name picks the dimension). Strict: exactly one plain number,
-    one space, one unit that pint reads as a unit alone; the result must be finite."""
+    """Convert a '<number> <unit>' string to SI for field `name`.
+
+    Strict: exactly one plain number, one space, one unit that pint reads as a unit alone; the
+    result must be finite.
+
+    Parameters
+    ----------
+    value : str
+        The quantity string, e.g. '70 GPa' [the unit it writes].
+    name : str
+        The field's path, such as 'radius' or 'bodies[0].young'; its last name picks the dimension.
+    path : str or pathlib.Path
+        The file, named in messages.
+
+    Returns
+    -------
+    float
+        The value in the field's SI unit: [Pa] for a modulus, [Pa s] for a viscosity, [m] for a
+        radius, [kg/m^3] for a density, [m/s] for a velocity.
+
+    Raises
+    ------
+    CaseError
+        Naming the file and the field.
+    """
     dimension, si_unit = _dimension(name)
     if not isinstance(value, str):
         raise CaseError(path, name, not_a_quantity(value, name))

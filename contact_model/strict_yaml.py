@@ -36,7 +36,19 @@ def _char(c) -> str:
 
 
 def join_field(parent: str, key) -> str:
-    """'parent.key', the path of a field inside `parent` ('key' at the top level)."""
+    """'parent.key', the path of a field inside `parent` ('key' at the top level).
+
+    Parameters
+    ----------
+    parent : str
+        The parent's field path ('' at the top level).
+    key : object
+        The key.
+
+    Returns
+    -------
+    str
+    """
     return f"{parent}.{key}" if parent else str(key)
 
 
@@ -63,9 +75,27 @@ class _Frame:
 
 
 def scan_plain_yaml(text: str, path) -> None:
-    """Walk the YAML events once and refuse what is not plain data, naming the field:
-    duplicated keys, keys that are not names, anchors and aliases, explicit tags, YAML 1.1
-    spellings of numbers and booleans, nesting deeper than MAX_DEPTH, several documents."""
+    """Walk the YAML events once and refuse what is not plain data, naming the field.
+
+    Duplicated keys, keys that are not names, anchors and aliases, explicit tags, YAML 1.1
+    spellings of numbers and booleans, nesting deeper than MAX_DEPTH, several documents.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    path : str or pathlib.Path
+        The file, named in messages.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    CaseError
+        Naming the file and the field.
+    """
     try:  # the reader refuses control characters (NUL, ESC, ...) as it is made
         loader = yaml.SafeLoader(text)
     except yaml.reader.ReaderError as err:
@@ -169,10 +199,19 @@ def read_small_file(path: Path, error=CaseError, max_bytes: int = MAX_BYTES,
 
     Parameters
     ----------
-    path : the file.
-    error : the exception class raised, called as ``error(path, '(file)', problem)``.
-    max_bytes : the largest size accepted [bytes].
-    what : the end of the sentence "...; <what> bytes (limit N)" said of a file too large.
+    path : pathlib.Path
+        The file.
+    error : type
+        The exception class raised, called as ``error(path, '(file)', problem)``.
+    max_bytes : int
+        The largest size accepted [bytes].
+    what : str
+        The end of the sentence "...; <what> bytes (limit N)" said of a file too large.
+
+    Returns
+    -------
+    bytes
+        The file's content.
     """
     try:
         st = os.stat(path)
@@ -203,9 +242,23 @@ def read_small_file(path: Path, error=CaseError, max_bytes: int = MAX_BYTES,
 
 
 def key_bytes(path, max_bytes: int = MAX_BYTES) -> bytes:
-    """What a cache key takes from a case file: its bytes, or, for a file `read_small_file`
-    refuses (a device such as /dev/zero, a FIFO, a file too large, a missing one), the refusal
-    itself, without reading it. Never raises; the loader refuses the file, naming it."""
+    """What a cache key takes from a case file.
+
+    Its bytes, or, for a file `read_small_file` refuses (a device such as /dev/zero, a FIFO, a file
+    too large, a missing one), the refusal itself, without reading it. Never raises; the loader
+    refuses the file, naming it.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The case file.
+    max_bytes : int
+        The largest size read [bytes].
+
+    Returns
+    -------
+    bytes
+    """
     try:
         return read_small_file(Path(path), CaseError, max_bytes)
     except CaseError as err:
@@ -214,9 +267,28 @@ def key_bytes(path, max_bytes: int = MAX_BYTES) -> bytes:
 
 def read_utf8(path: Path, error=CaseError, max_bytes: int = MAX_BYTES, what: str = "a case file is a few "
               "hundred") -> str:
-    """The text of a small UTF-8 file (`read_small_file`: a regular file of at most `max_bytes`,
-    checked before reading), or `error(path, '(file)', problem)`: unreadable, not a regular file,
-    larger than `max_bytes`, or not UTF-8 (the byte and its line named, not the text)."""
+    """The text of a small UTF-8 file, or `error(path, '(file)', problem)`.
+
+    `read_small_file`: a regular file of at most `max_bytes`, checked before reading; refused when
+    unreadable, not a regular file, larger than `max_bytes`, or not UTF-8 (the byte and its line
+    named, not the text).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    error : type
+        The exception class raised, called as ``error(path, '(file)', problem)``.
+    max_bytes : int
+        The largest size accepted [bytes].
+    what : str
+        The end of the sentence "...; <what> bytes (limit N)" said of a file too large.
+
+    Returns
+    -------
+    str
+        The file's text (a UTF-8 byte-order mark dropped).
+    """
     raw = read_small_file(Path(path), error, max_bytes, what)
     try:
         return raw.decode("utf-8-sig")

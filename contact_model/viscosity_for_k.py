@@ -21,13 +21,45 @@ from .quantities import POISE, CaseError, quantity
 
 
 def viscosity_table(case, K_values, velocities) -> list[dict]:
-    """One row per geometry, velocity [m/s] and target K: eta [Pa s] and [P]."""
+    """One row per geometry, velocity and target K: eta in [Pa s] and in [P].
+
+    Parameters
+    ----------
+    case : Case
+        The case, whose pairs give E* [Pa], R* [m] and M* [kg].
+    K_values : sequence of float
+        The target dissipation parameters [-].
+    velocities : sequence of float
+        The impact velocities [m/s].
+
+    Returns
+    -------
+    list of dict
+        geometry, V [m/s], K [-], eta_Pa_s [Pa s], eta_P [P].
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the Hertz scales and K, eqs. 1 and 3.
+    """
     return [{"geometry": p.geometry, "V": V, "K": K, "eta_Pa_s": viscosity_for_dissipation(p.E, p.R, p.M, V, K),
              "eta_P": viscosity_for_dissipation(p.E, p.R, p.M, V, K) / POISE}
             for p in case.pairs for V in velocities for K in K_values]
 
 
 def main(argv=None) -> int:
+    """The command line: the viscosity eta giving each K at each impact velocity.
+
+    Parameters
+    ----------
+    argv : list of str or None
+        The command-line arguments without the program name (None: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 for a case or an argument it refuses.
+    """
     parser = argparse.ArgumentParser(prog="python -m contact_model.viscosity_for_k",
                                      description=__doc__.split("\n\n")[0])
     parser.add_argument("case", help="a case file (cases/*.yaml)")

@@ -25,8 +25,36 @@ from .quantities import POISE, CaseError, quantity
 
 
 def viscosity_rows(case, restitutions, velocities, criterion: str = "F0") -> list[dict]:
-    """One row per geometry, velocity [m/s] and restitution: K, eta [Pa s] and [P].
-    ValueError (from `reference.dissipation_for_restitution`) for a restitution no K reaches."""
+    """One row per geometry, velocity and restitution: K, eta in [Pa s] and in [P].
+
+    Parameters
+    ----------
+    case : Case
+        The case, whose pairs give E* [Pa], R* [m] and M* [kg].
+    restitutions : sequence of float
+        The restitution coefficients wanted, each in (0, 1) [-].
+    velocities : sequence of float
+        The impact velocities [m/s].
+    criterion : str
+        The end of contact the restitution refers to, 'F0' or 'x0' [-].
+
+    Returns
+    -------
+    list of dict
+        geometry, V [m/s], eps [-], criterion, K [-], eta_Pa_s [Pa s], eta_P [P].
+
+    Raises
+    ------
+    ValueError
+        From `reference.dissipation_for_restitution`, for a restitution no K reaches.
+
+    References
+    ----------
+    He, A. & Wettlaufer, J. S. "Hertz beyond expectations":
+    the Hertz scales and K, eqs. 1 and 3.
+    Brilliantov, N. V., Spahn, F., Hertzsch, J.-M. & Poeschel, T. (1996). Model for collisions in
+    granular gases. Phys. Rev. E 53, 5382.
+    """
     rows = []
     for eps in restitutions:
         K = dissipation_for_restitution(eps, criterion)
@@ -39,6 +67,18 @@ def viscosity_rows(case, restitutions, velocities, criterion: str = "F0") -> lis
 
 
 def main(argv=None) -> int:
+    """The command line: the viscosity eta that restitutes each coefficient at each impact velocity.
+
+    Parameters
+    ----------
+    argv : list of str or None
+        The command-line arguments without the program name (None: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 for a case or an argument it refuses.
+    """
     parser = argparse.ArgumentParser(prog="python -m contact_model.viscosity_for_restitution",
                                      description=__doc__.split("\n\n")[0])
     parser.add_argument("case", help="a case file (cases/*.yaml)")
