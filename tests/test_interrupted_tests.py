@@ -18,7 +18,11 @@ ROOT = Path(__file__).resolve().parents[1]
 INNER = '''import os
 from pathlib import Path
 
+import pytest
+
 import processes
+
+pytestmark = pytest.mark.workflow  # it starts processes: not the unit tier (tests/conftest.py)
 
 
 def test_holds_processes():
@@ -81,7 +85,11 @@ def test_a_stopped_test_run_leaves_none_of_its_processes(tmp_path, workers, sig,
 INNER_CLUSTER = '''import time
 from pathlib import Path
 
+import pytest
+
 from slurm_cluster import require_slurm
+
+pytestmark = pytest.mark.workflow  # it starts the cluster: not the unit tier (tests/conftest.py)
 
 
 def test_holds_the_cluster():
