@@ -33,6 +33,8 @@ TIERS = {
 }
 
 
+#: Whether this process is an xdist worker (set by `pytest_configure`), not pytest's own process.
+IS_WORKER = False
 #: The signals that stop a test run cleanly: its processes are killed first (`stop_test_run`).
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
@@ -43,7 +45,8 @@ def pytest_configure(config):
     from engines.engine_process import dies_with
     from slurm_cluster import TEST_RUN, run_id
 
-    worker = hasattr(config, "workerinput")
+    global IS_WORKER
+    worker = IS_WORKER = hasattr(config, "workerinput")
     if worker:
         dies_with(os.getppid(), signal.SIGTERM)()  # an xdist worker: SIGTERM when pytest is gone
     else:
@@ -58,7 +61,9 @@ def finish_test_run() -> None:
     import processes
 
     processes.stop_all()
-    if os.environ.get("PYTEST_XDIST_WORKER") is None:
+    # Not by PYTEST_XDIST_WORKER: a pytest started by a worker's test inherits that variable, and would
+    # then never release the cluster lease it took.
+    if not IS_WORKER:
         from slurm_cluster import TEST_RUN, release_cluster, run_id
 
         if os.environ.get(TEST_RUN) == run_id():
