@@ -17,6 +17,7 @@ from engines.ladder import START_PHASE, aligned_time_step
 from records.collision_metrics import collision_metrics
 from reference import HERTZ_TAU, solve_collision
 from reference.engine_map import replay
+from test_ladder import orders
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = "\n".join(p.read_text() for p in (ROOT / "docs").glob("*.md"))
@@ -25,16 +26,6 @@ FACTORS = 250 * 2.0 ** np.arange(8)
 #: How close the measured orders come to the form's powers over these rungs: the first within 0.06
 #: (the next power's share at T_e/32000: 1.049 for the x^{1/4} form), the second within 0.02.
 FIRST, SECOND = 0.06, 0.02
-
-
-def orders(h, y, eliminated):
-    """The order of the next term after the `eliminated` powers (tests/test_ladder.py's `orders`)."""
-    for p in eliminated:
-        r = (h[:-1] / h[1:]) ** p
-        y = (r * y[1:] - y[:-1]) / (r - 1)
-        h = h[1:]
-    d = np.diff(y)
-    return np.log(d[:-1] / d[1:]) / np.log(h[:-2] / h[1:-1])
 
 
 @functools.lru_cache(maxsize=None)
