@@ -139,6 +139,10 @@ rule all:
         lambda w: BUILD_PAIR_COMPARISONS,  # config compare_builds (workflow/rules/compare.smk, below)
 
 
+#: What stops the workflow before any job, each with what to do: bad case files (workflow/rules/
+#: cases.smk), missing engine executables (builds.smk), bad config files; raised together below.
+SETUP_PROBLEMS = []
+
 include: "workflow/rules/setup_cache.smk"
 include: "workflow/rules/builds.smk"
 include: "workflow/rules/cases.smk"
@@ -156,7 +160,7 @@ include: "workflow/rules/config_files.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used. Every other
 # rule's job is a SLURM job of its own there (profiles/slurm), with its cluster_resources.
-localrules: all, plan, summary, lammps_regressions, reference_tables, checks, report, gate, case_verdict, case_gate, calibration,
+localrules: all, engine_version, plan, summary, lammps_regressions, reference_tables, checks, report, gate, case_verdict, case_gate, calibration,
             calibration_report,
             compare, compare_studies, compare_gate, compare_builds, convergence_summary, paper_figure_3, paper_figure_4,
             keywords, keywords_summary, history, history_summary

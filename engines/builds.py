@@ -5,9 +5,10 @@ and an executable (a path, or a name on PATH; a relative path is relative to the
 folder). Adding a build is one config entry: what is known about a code (its version banner,
 where it comes from) is its entry in `engines.codes`.
 
-`check_build` asks the executable for its version before any job starts and refuses, with the
-build named and what to do, an executable that is missing, that is another engine, or that
-cannot say which version it is.
+`find_executable` refuses a missing executable when the workflow starts (a look-up: nothing is
+started, so a dry run or ``--unlock`` runs no engine). `check_build` asks the executable for its
+version (the workflow's ``engine_version`` job, results/engine_versions/<build>.json) and refuses,
+with the build named and what to do, one that is another engine or cannot say which version it is.
 """
 
 from __future__ import annotations
@@ -82,13 +83,36 @@ def query_version(executable: str, code: str, timeout_s: float = VERSION_TIMEOUT
     return text
 
 
+def find_executable(build: Build) -> str:
+    """The absolute path of the build's executable, looked up (PATH for a bare name), not started.
+
+    Raises
+    ------
+    BuildError
+        When it is not there: the message names what was looked up (PATH's folders, or the
+        path), then how to install the code.
+    """
+    exe = shutil.which(build.executable)
+    if exe is None:
+        raise BuildError(f"build {build.id!r} ({build.code}): {not_found(build.executable)}; "
+                         f"{CODES[build.code].install_hint}, or point the build's `executable` at your own build")
+    return exe
+
+
+def executable_identity(build: Build) -> dict:
+    """Where the build's executable is and which file it is (resolved path, size [bytes],
+    modification time [ns]), read by ``stat`` alone: the ``engine_version`` job's parameter, so
+    that an engine installed anew at the same path is asked its version again (and its runs rerun),
+    and an unchanged one is not. BuildError when it is missing (`find_executable`)."""
+    exe = Path(find_executable(build)).resolve()
+    st = exe.stat()
+    return {"path": str(exe), "size": st.st_size, "mtime_ns": st.st_mtime_ns}
+
+
 def check_build(build: Build, timeout_s: float = VERSION_TIMEOUT_S) -> str:
     """The build's version banner (e.g. 'LAMMPS (22 Jul 2025 - Update 4)'), read from the
     executable; BuildError when it is missing, is another engine, or prints no version."""
-    exe = shutil.which(build.executable)
-    if exe is None:  # what was looked up first (PATH's folders, or the path), then how to install the code
-        raise BuildError(f"build {build.id!r} ({build.code}): {not_found(build.executable)}; "
-                         f"{CODES[build.code].install_hint}, or point the build's `executable` at your own build")
+    exe = find_executable(build)
     try:
         text = query_version(exe, build.code, timeout_s)
     except (OSError, TimeoutError) as err:

@@ -424,6 +424,21 @@ def without_missing_keywords(listing: dict, banners: dict[str, str]) -> dict:
             "not_available": listing["not_available"] + cells}
 
 
+def build_part(listing: dict, build: str) -> dict:
+    """The part of a plan listing (plan_listing) that one build runs: its runs and its cells not
+    available; the case, its pairs and the velocities not run as they are.
+
+    Parameters
+    ----------
+    listing : dict
+        A case's plan listing (results/<case>/plan.json).
+    build : str
+        A build's id.
+    """
+    return {**listing, "runs": [r for r in listing["runs"] if r["build"] == build],
+            "not_available": [c for c in listing["not_available"] if c.get("build") == build]}
+
+
 def runs_from_listing(case: Case | None, listing: dict, build: str) -> list[RunSpec]:
     """The runs of build `build` (its id) in a plan listing (plan_listing), rebuilt with their reference rows,
     so that no later rule solves the ODE again. A listing that does not match the case (a run

