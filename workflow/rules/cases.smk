@@ -11,6 +11,10 @@ def case_files():
     return files
 
 
+#: The folders of results/ that are the study's, not a case's (besides its rules' names).
+STUDY_FOLDERS = {"engine_versions", "reference", "paper", "convergence", "lammps"}
+
+
 def case_name_problems(cases, rule_names):
     """A case's file name is its target (`snakemake steel`) and its results folder: the problem
     of each name that cannot be one (refused, rather than skipped or left to break the workflow)."""
@@ -23,6 +27,9 @@ def case_name_problems(cases, rule_names):
         elif name in rule_names:
             problems.append(f"{path}: the file name {name!r} is taken by the workflow's rule '{name}'; rename the "
                             f"case file (e.g. {name}_case.yaml)")
+        elif name in STUDY_FOLDERS:
+            problems.append(f"{path}: the file name {name!r} is taken by the study's folder results/{name}/; rename "
+                            f"the case file (e.g. {name}_case.yaml)")
     return problems
 
 
