@@ -132,7 +132,21 @@ def _peak(t, y, i_s, i_x, dt) -> tuple[float, float]:
 
 def collision_metrics(time, overlap, normal_velocity, normal_force, impact_velocity) -> CollisionMetrics:
     """Extract T, delta_max and eps under both criteria from one sampled collision (see the
-    module's docstring for how each event is read)."""
+    module's docstring for how each event is read).
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times [s], one per step, increasing.
+    overlap : array_like
+        Overlap delta at each sample [m] (positive in contact).
+    normal_velocity : array_like
+        d(delta)/dt at each sample [m/s] (positive while approaching).
+    normal_force : array_like
+        Normal force at each sample [N] (positive repulsive).
+    impact_velocity : float
+        The approach speed V before contact [m/s].
+    """
     t = np.asarray(time, float)
     d = np.asarray(overlap, float)
     v = np.asarray(normal_velocity, float)
@@ -203,6 +217,18 @@ def collision_metrics(time, overlap, normal_velocity, normal_force, impact_veloc
 def quantities_of(m: CollisionMetrics, criterion: str, R: float, V: float) -> dict[str, float]:
     """Every quantity of the table (`records.quantities.QUANTITIES`, in its order) of one run under
     `criterion` ('x0' or 'F0'): those read off the collision by their entry's `extract`, the others
-    derived from them with the effective radius R [m] and the impact velocity V [m/s]."""
+    derived from them with the effective radius R [m] and the impact velocity V [m/s].
+
+    Parameters
+    ----------
+    m : CollisionMetrics
+        One run's characteristics (`collision_metrics`).
+    criterion : {'x0', 'F0'}
+        The end-of-contact criterion: overlap back to zero, or force back to zero.
+    R : float
+        The effective radius R* [m].
+    V : float
+        The impact velocity [m/s].
+    """
     return derived_values({name: q.extract(m, criterion) for name, q in QUANTITIES.items()
                            if q.derive is None and q.extract is not None}, R, V)

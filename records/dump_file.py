@@ -41,6 +41,15 @@ def write_dump(path, meta: dict, data: np.ndarray) -> None:
 
     The file appears under its name only once it is complete, so an interrupted run never
     leaves a dump that looks valid.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Where to write it.
+    meta : dict
+        The header's metadata (build, engine version, case parameters, time step [s], ...).
+    data : numpy.ndarray
+        N x 4 samples: time [s], overlap [m], normal velocity [m/s], normal force [N].
     """
     path = Path(path)
     data = np.asarray(data, dtype=float)
@@ -58,7 +67,13 @@ def write_dump(path, meta: dict, data: np.ndarray) -> None:
 
 
 def read_dump(path) -> tuple[dict, dict[str, np.ndarray]]:
-    """Read a dump: (metadata dict, {column: array})."""
+    """Read a dump: (metadata dict, {column: array}).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The dump file (hertz-dem-dump: 1).
+    """
     path = Path(path)
     meta: dict = {}
     try:
@@ -95,5 +110,11 @@ def read_dump(path) -> tuple[dict, dict[str, np.ndarray]]:
 
 
 def finite_or_none(x: float):
-    """JSON has no NaN: metadata numbers that may be NaN go through this."""
+    """JSON has no NaN: metadata numbers that may be NaN go through this.
+
+    Parameters
+    ----------
+    x : float
+        A metadata number, possibly NaN or infinite.
+    """
     return None if x is None or (isinstance(x, float) and math.isnan(x)) else x

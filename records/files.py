@@ -9,7 +9,13 @@ from pathlib import Path
 
 
 def file_sha256(path) -> str:
-    """The sha256 of a file's bytes, as hex."""
+    """The sha256 of a file's bytes, as hex.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    """
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
@@ -43,7 +49,15 @@ def _replace_with(path: Path, write) -> None:
 def write_atomically(path, data: bytes | str) -> None:
     """Write `path` so that a reader sees the old file or the whole new one, never a part: the
     data go to a hidden temporary file beside it ('.<name>.<pid>.part'), which then replaces it;
-    a write that fails leaves no temporary file behind."""
+    a write that fails leaves no temporary file behind.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+    data : bytes or str
+        Its whole new content (text is written as UTF-8).
+    """
     path = Path(path)
     _replace_with(path, lambda tmp: tmp.write_bytes(data.encode() if isinstance(data, str) else data))
 

@@ -109,7 +109,17 @@ def gated_quantities() -> tuple[str, ...]:
 
 def derived_values(measured: Mapping[str, float], R: float, V: float) -> dict[str, float]:
     """Every quantity of `QUANTITIES` (in its order) from the values of those read off the collision
-    (`measured`, by name; NaN for one missing) and the effective radius R [m] and impact velocity V [m/s]."""
+    (`measured`, by name; NaN for one missing) and the effective radius R [m] and impact velocity V [m/s].
+
+    Parameters
+    ----------
+    measured : mapping of str to float
+        The quantities read off the collision [SI], by name.
+    R : float
+        Effective radius R* [m].
+    V : float
+        Impact velocity [m/s].
+    """
     values = {"R": R, "V": V}
     values.update({name: measured.get(name, math.nan) for name, q in QUANTITIES.items() if q.derive is None})
     for name, q in QUANTITIES.items():
@@ -121,7 +131,21 @@ def derived_values(measured: Mapping[str, float], R: float, V: float) -> dict[st
 def reference_values(row: Mapping, criterion: str, scales: Mapping[str, float], R: float,
                      V: float) -> dict[str, float]:
     """Every quantity of the reference solution (`row`, dimensionless) under `criterion`, in SI
-    through the run's `scales` (T_e, delta_e, F_e)."""
+    through the run's `scales` (T_e, delta_e, F_e).
+
+    Parameters
+    ----------
+    row : mapping
+        The reference solution's row (dimensionless characteristics).
+    criterion : {'x0', 'F0'}
+        The end-of-contact criterion.
+    scales : mapping of str to float
+        The run's Hertz scales: T_e [s], delta_e [m], F_e [N].
+    R : float
+        Effective radius R* [m].
+    V : float
+        Impact velocity [m/s].
+    """
     return derived_values({name: q.reference(row, criterion, scales) for name, q in QUANTITIES.items()
                            if q.derive is None and q.reference is not None}, R, V)
 
@@ -129,7 +153,23 @@ def reference_values(row: Mapping, criterion: str, scales: Mapping[str, float], 
 def characteristics(T: float, delta_max: float, eps: float, F_max: float, R: float, V: float) -> dict[str, float]:
     """Every quantity of `QUANTITIES` from one collision's contact time T [s], maximum overlap
     delta_max [m], restitution eps, maximum force F_max [N], effective radius R [m] and impact
-    velocity V [m/s]: A = pi R delta_max, Q1 = A^{1/2} T^2, Q2 = A / (sqrt(V eps V) T)."""
+    velocity V [m/s]: A = pi R delta_max, Q1 = A^{1/2} T^2, Q2 = A / (sqrt(V eps V) T).
+
+    Parameters
+    ----------
+    T : float
+        Contact time [s].
+    delta_max : float
+        Maximum overlap [m].
+    eps : float
+        Restitution coefficient [-].
+    F_max : float
+        Maximum normal force [N].
+    R : float
+        Effective radius R* [m].
+    V : float
+        Impact velocity [m/s].
+    """
     return derived_values({"T": T, "delta_max": delta_max, "eps": eps, "F_max": F_max}, R, V)
 
 
@@ -142,7 +182,15 @@ _PREFIXED = {"s": (("s", 1.0), ("ms", 1e3), ("µs", 1e6), ("ns", 1e9)),
 
 def readable(name: str, value: float) -> str:
     """`value` [SI] of quantity `name` in the unit a person reads it in, the largest in which it is
-    at least 0.1 ('52.31 µs', '2.5 kN', '0.749 mm²', '0.9045' for a ratio)."""
+    at least 0.1 ('52.31 µs', '2.5 kN', '0.749 mm²', '0.9045' for a ratio).
+
+    Parameters
+    ----------
+    name : str
+        A quantity's name in `QUANTITIES`.
+    value : float
+        Its value [SI].
+    """
     q = QUANTITIES[name]
     units = _PREFIXED.get(q.unit)
     if units is None or not math.isfinite(value) or value == 0:

@@ -23,7 +23,19 @@ from .files import file_sha256, write_atomically
 
 def write_manifest(path, dumps, failed=(), **fields) -> dict:
     """Write the manifest `path` (atomically) listing `dumps` (absolute or relative paths, each
-    hashed now) and `failed` (dicts with run, law, problem, log); `fields` go in as they are."""
+    hashed now) and `failed` (dicts with run, law, problem, log); `fields` go in as they are.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The manifest.json to write.
+    dumps : iterable of str or os.PathLike
+        The dumps the job wrote (absolute or relative paths), hashed now.
+    failed : iterable of dict, optional
+        The runs that failed: run, law, problem, log.
+    **fields
+        Further entries, written as they are (engine seconds, samples, ...).
+    """
     path = Path(path)
     here = path.parent.resolve()
 
@@ -38,7 +50,13 @@ def write_manifest(path, dumps, failed=(), **fields) -> dict:
 
 
 def read_manifest(path) -> dict:
-    """The manifest with every dump path made usable from here (joined to the manifest's folder)."""
+    """The manifest with every dump path made usable from here (joined to the manifest's folder).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The manifest.json.
+    """
     path = Path(path)
     try:
         content = json.loads(path.read_text())
@@ -57,7 +75,15 @@ def dump_problem(path, sha256: str) -> str | None:
     manifest's `sha256`, or it cannot be read), naming the file; None when it is.
 
     'results/steel/lammps/runs/x.csv: the dump changed after the engine job wrote it (sha256
-    3f2a…, manifest says 9c41…); rerun its engine job, e.g. snakemake --forcerun run_engine'."""
+    3f2a…, manifest says 9c41…); rerun its engine job, e.g. snakemake --forcerun run_engine'.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The dump.
+    sha256 : str
+        The sha256 its engine job recorded in the manifest.
+    """
     try:
         found = file_sha256(path)
     except OSError as err:
@@ -82,7 +108,16 @@ def changed_dumps(manifest_paths, verified=None) -> list[str]:
     the cache the whole study's 5600 dumps (590 MB) take 0.1 s instead of 0.8 s (3.5 s from disk). A cache that
     cannot be read or written is left out (everything is hashed). The workflow's gates check
     every dump in full before a PASS; the case summary reruns when the cached list changes
-    (workflow/rules/engines.smk)."""
+    (workflow/rules/engines.smk).
+
+    Parameters
+    ----------
+    manifest_paths : iterable of str or os.PathLike
+        The manifests (engine jobs' manifest.json) whose dumps are checked.
+    verified : str or os.PathLike, optional
+        A cache file of the dumps verified before (inode, size, mtime, ctime, sha256); None
+        hashes every dump.
+    """
     cache = _read_cache(verified) if verified else {}
     problems = []
     for manifest in manifest_paths:
@@ -125,7 +160,15 @@ def _read_cache(path) -> dict:
 
 
 def verified_dump(path, sha256: str):
-    """read_dump(path) after checking that the file is the one the run wrote (`dump_problem`)."""
+    """read_dump(path) after checking that the file is the one the run wrote (`dump_problem`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The dump.
+    sha256 : str
+        The sha256 its engine job recorded in the manifest.
+    """
     problem = dump_problem(path, sha256)
     if problem:
         raise DumpError(problem)
@@ -133,7 +176,15 @@ def verified_dump(path, sha256: str):
 
 
 def measured_dump(path, sha256: str) -> tuple[dict, dict, CollisionMetrics]:
-    """(metadata, columns, metrics) of a verified dump; any problem is a DumpError naming it."""
+    """(metadata, columns, metrics) of a verified dump; any problem is a DumpError naming it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The dump.
+    sha256 : str
+        The sha256 its engine job recorded in the manifest.
+    """
     meta, cols = verified_dump(path, sha256)
     try:
         m = collision_metrics(cols["time"], cols["overlap"], cols["normal_velocity"], cols["normal_force"],
@@ -144,6 +195,12 @@ def measured_dump(path, sha256: str) -> tuple[dict, dict, CollisionMetrics]:
 
 
 def manifest_dumps(manifest_path):
-    """Yield (path, metadata, columns, metrics) for every dump of a manifest, each verified."""
+    """Yield (path, metadata, columns, metrics) for every dump of a manifest, each verified.
+
+    Parameters
+    ----------
+    manifest_path : str or os.PathLike
+        An engine job's manifest.json.
+    """
     for d in read_manifest(manifest_path)["dumps"]:
         yield (d["path"], *measured_dump(d["path"], d["sha256"]))

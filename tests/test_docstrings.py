@@ -1,5 +1,5 @@
-"""Docs as scipy writes them (issue "Codebase 2"): every public function and method of `reference`
-and `contact_model` has a numpydoc docstring whose Parameters section names each of its parameters.
+"""Docs as scipy writes them (issue "Codebase 2"): every public function and method of `reference`,
+`contact_model` and `records` has a numpydoc docstring whose Parameters section names each of its parameters.
 
 The walk: every public module of the two packages (a leading underscore makes a module private;
 `__main__` is the command line and is walked), imported in-process; in each, the public
@@ -20,7 +20,7 @@ import re
 
 import pytest
 
-PACKAGES = ("reference", "contact_model")
+PACKAGES = ("reference", "contact_model", "records")
 
 #: A numpydoc section header: a title line, then a line of dashes as long as it.
 _HEADER = re.compile(r"^(?P<title>[A-Z][A-Za-z ]*)\n(?P<dashes>-+)$", re.M)
@@ -45,7 +45,7 @@ def _unwrap(obj):
 
 def public_functions() -> list[tuple[str, object, bool]]:
     """(module.qualname, function, is_method) of every public function and method defined in the
-    two packages, each once."""
+    packages, each once."""
     found = {}
     for package in PACKAGES:
         for name in public_modules(package):
