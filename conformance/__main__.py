@@ -1,7 +1,7 @@
 """The conformance kit's command line (docs/conformance.md).
 
     python -m conformance export CASE... [--law L]... [--keyword K] [--told E] [--K K...] --out DIR
-    python -m conformance gate DIR [--columns FILE]
+    python -m conformance gate DIR [--columns FILE] [--no-plots]
 
 export: exit 0, or 2 when the case cannot be planned. gate: 0 PASS, 1 FAIL, 2 unusable input.
 """
@@ -33,6 +33,7 @@ def parser() -> argparse.ArgumentParser:
     e.add_argument("--out", required=True, metavar="DIR")
     g = sub.add_parser("gate", help="gate DIR/dumps/ against DIR/plan.json")
     g.add_argument("folder", metavar="DIR")
+    g.add_argument("--no-plots", action="store_true", help="leave the report's figures undrawn (faster)")
     g.add_argument("--columns", metavar="FILE", help="the column map of plain CSV dumps (default DIR/columns.yaml)")
     return p
 
@@ -58,7 +59,7 @@ def main(argv=None) -> int:
         return 0
     from .gate import gate
 
-    return gate(args.folder, args.columns, log=print).status
+    return gate(args.folder, args.columns, log=print, plots=not args.no_plots).status
 
 
 if __name__ == "__main__":

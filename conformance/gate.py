@@ -34,7 +34,7 @@ from records.files import file_sha256, write_atomically
 from .dumps import MAGIC, Refusal, load_column_map, read_mapped_csv, read_study_dump
 from .export import PLAN_FORMAT, plan_id
 from .study import (ReportInputs, comparison_rows, extrapolated_rows, gate_checks, map_errors, tolerance_problems,
-                    verdict_of, write_report, write_verdict_files)
+                    verdict_of, write_report, write_report_without_plots, write_verdict_files)
 
 #: What a refused gate removes from DIR: a verdict of earlier dumps must not stand beside these.
 VERDICT_FILES = ("verdict.json", "junit.xml", "checks.csv", "report.md", "report.html", "summary.csv")
@@ -117,8 +117,9 @@ def promise_rows(table: pd.DataFrame) -> list[dict]:
     return rows
 
 
-def gate(folder, columns_file=None, log=print) -> Outcome:
-    """Gate the dumps of `folder` against its plan (see the module's docstring)."""
+def gate(folder, columns_file=None, log=print, plots: bool = True) -> Outcome:
+    """Gate the dumps of `folder` against its plan (see the module's docstring); `plots` False leaves the
+    report's figures undrawn."""
     folder = Path(folder)
     refusals = []
     try:
@@ -174,12 +175,13 @@ def gate(folder, columns_file=None, log=print) -> Outcome:
         notes += [f"Promise of `{p['keyword']}` ({p['criterion']}): told e = {p['told_e']:.6g}, its equation "
                   f"restitutes {p['eps_its_equation']:.6f} ({p['promise_error']:+.2e}), the dumps at dt -> 0 "
                   f"{p['eps_dumps_dt0']:.6f}: reported, not gated" for p in verdict["promise"]]
-        write_report(ReportInputs(table, checks, verdict, builds=[plan["build"]], not_run=plan["not_run"],
-                                  not_available=plan["not_available"], plan_notes=notes,
-                                  ladder=plan["settings"]["ladder"],
-                                  title=f"Conformance of {plan['build']}: {', '.join(plan['laws'])}, "
-                                        f"cases {', '.join(c['case'] for c in plan['cases'])}",
-                                  folder=folder.as_posix()), folder)
+        inputs = ReportInputs(table, checks, verdict, builds=[plan["build"]], not_run=plan["not_run"],
+                              not_available=plan["not_available"], plan_notes=notes,
+                              ladder=plan["settings"]["ladder"],
+                              title=f"Conformance of {plan['build']}: {', '.join(plan['laws'])}, "
+                                    f"cases {', '.join(c['case'] for c in plan['cases'])}",
+                              folder=folder.as_posix())
+        (write_report if plots else write_report_without_plots)(inputs, folder)
 
     write_verdict_files(checks, verdict, {"checks": folder / "checks.csv", "junit": folder / "junit.xml",
                                           "verdict": folder / "verdict.json"}, report=report)

@@ -15,5 +15,19 @@ from postprocess.map_reference import map_errors
 from postprocess.report import ReportInputs, write_report
 from postprocess.verdict_files import tolerance_problems
 
+
+def write_report_without_plots(inputs, out_dir) -> None:
+    """`write_report` with its figures left undrawn (report.md and report.html as they are, their
+    image links dangling): `gate --no-plots`, where matplotlib's seconds are not wanted (CI, tests)."""
+    import postprocess.report as report
+
+    drawing = report.start_drawing
+    report.start_drawing = lambda figures, workers=1: (lambda: None)
+    try:
+        write_report(inputs, out_dir)
+    finally:
+        report.start_drawing = drawing
+
 __all__ = ["ReportInputs", "check_name", "comparison_rows", "extrapolated_rows", "gate_checks", "map_errors",
-           "tolerance_problems", "verdict_of", "write_report", "write_verdict_files"]
+           "tolerance_problems", "verdict_of", "write_report", "write_report_without_plots",
+           "write_verdict_files"]
