@@ -136,19 +136,22 @@ def gate(folder, columns_file=None, log=print, plots: bool = True) -> Outcome:
         refusals += [f"{p}: not a dump of this plan (no run of plan {plan['plan_id'][:12]} writes it): another "
                      "plan's, or a run renamed" for p in sorted(dumps.iterdir())
                      if p.is_file() and not p.name.startswith(".") and p.resolve() not in named]
-    rows = []
-    for run in plan["runs"]:
+    read = []
+    for run in plan["runs"]:  # every dump read and checked first: one refused, nothing is gated
         try:
-            spec = spec_of(run)
-            series = _read(folder, run, plan, columns)
-            meta = {**spec.metadata(), "engine_version": series.engine_version}
-            try:
-                m = collision_metrics(series.time, series.overlap, series.normal_velocity, series.normal_force,
-                                      spec.velocity)
-            except ExtractionError as err:
-                raise Refusal(f"{folder / run['dump']}: the collision cannot be read: {err}")
+            read.append((run, spec_of(run), _read(folder, run, plan, columns)))
         except Refusal as err:
             refusals.append(str(err))
+    if refusals:
+        return _refused(folder, refusals, log)
+    rows = []
+    for run, spec, series in read:
+        meta = {**spec.metadata(), "engine_version": series.engine_version}
+        try:
+            m = collision_metrics(series.time, series.overlap, series.normal_velocity, series.normal_force,
+                                  spec.velocity)
+        except ExtractionError as err:
+            refusals.append(f"{folder / run['dump']}: the collision cannot be read: {err}")
             continue
         on_map = map_errors(meta, m, len(series.time))
         for row in comparison_rows(meta, m, run["reference"]):
