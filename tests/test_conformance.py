@@ -170,8 +170,7 @@ def test_column_map_of_positions_in_mm_passes(folder, capsys):
 
 
 def test_the_guide_walkthrough_runs_as_written(folder, monkeypatch, capsys):
-    text = DOC.read_text()
-    script = text.split("<!-- conformance-walkthrough -->", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    script = _walkthrough_script()
     assert len(script.splitlines()) <= 35  # "a ~30-line script"
     path = folder / "run_plan.py"
     path.write_text(script)
@@ -323,3 +322,42 @@ def test_export_refuses_what_it_cannot_plan(tmp_path, capsys):
     assert main(["export", str(ROOT / "cases" / "steel.yaml"), "--keyword", "nobody:nothing",
                  "--out", str(tmp_path)]) == 2
     assert "unknown keyword" in capsys.readouterr().err
+
+
+def _walkthrough_script() -> str:
+    text = DOC.read_text()
+    return text.split("<!-- conformance-walkthrough -->", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+
+
+def test_a_keyword_round_trip_passes_and_reports_its_promise(tmp_path, monkeypatch, capsys):
+    """Generic over laws: a keyword's plan (LIGGGHTS's coefficientRestitution, Tsuji's form) run by the
+    guide's script from the plan's own law_equation gates PASS, its promise in verdict.json."""
+    folder = tmp_path / "keyword"
+    assert main(["export", str(ROOT / "cases" / "steel.yaml"), "--keyword", "liggghts:hertz-coefficientRestitution",
+                 "--K", "0.1", "--out", str(folder)]) == 0
+    plan = load(folder)
+    assert {r["law"] for r in plan["runs"]} == {"default"} and plan["runs"][0]["told_e"] > 0
+    assert plan["runs"][0]["law_equation"]["damping_power"] == 0.25
+    path = folder / "run_plan.py"
+    path.write_text(_walkthrough_script())
+    monkeypatch.setattr(sys, "argv", [str(path), str(folder)])
+    runpy.run_path(str(path), run_name="__main__")
+    assert main(["gate", str(folder), "--no-plots"]) == 0, capsys.readouterr().out
+    promise = verdict(folder)["promise"]
+    assert {p["keyword"] for p in promise} == {"liggghts:hertz-coefficientRestitution"}
+    assert all(abs(p["eps_dumps_dt0"] - p["eps_its_equation"]) < 1e-6 for p in promise)
+
+
+def test_postprocess_is_imported_in_one_module_of_the_kit():
+    """conformance/study.py re-exports what the kit takes from postprocess/: a move of its modules changes
+    that file alone."""
+    import ast
+
+    importers = set()
+    for path in (ROOT / "conformance").glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module] if isinstance(node, ast.ImportFrom) and node.module else [])
+            if any(n.split(".")[0] == "postprocess" for n in names):
+                importers.add(path.name)
+    assert importers == {"study.py"}

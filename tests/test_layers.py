@@ -1,6 +1,7 @@
 """Every import between the study's packages points down its layers:
 
-    reference -> contact_model -> records -> engines -> postprocess, calibration -> workflow, benchmarks
+    reference -> contact_model -> records -> engines -> postprocess, calibration -> workflow, benchmarks,
+    conformance
 
 (a package imports only itself and the packages of lower layers; postprocess and calibration,
 side by side, do not import each other). Read from the source with `ast`, so that an import
@@ -14,7 +15,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 LAYERS = [("reference",), ("contact_model",), ("records",), ("engines",), ("postprocess", "calibration"),
-          ("workflow", "benchmarks")]
+          ("workflow", "benchmarks", "conformance")]
 LAYER_OF = {package: i for i, packages in enumerate(LAYERS) for package in packages}
 #: Where each package's modules are; workflow/scripts import as top-level modules (`common`).
 SOURCES = {package: ROOT / package for package in LAYER_OF}
