@@ -73,6 +73,7 @@ def build(run):
         ip2 = Ip2_FrictMat_FrictMat_MindlinPhys(betan=MatchMaker(algo="val", val=run["betan"]))
     else:
         ip2 = Ip2_FrictMat_FrictMat_MindlinPhys()  # betan unset: no built-in damping
+    # run_steps() sub-steps these four, in this order, and records after the InteractionLoop
     O.engines = [
         ForceResetter(),
         InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Wall_Aabb()]),
@@ -101,11 +102,6 @@ def native(run):
     return run["law"] == "viscoelastic_clipped" and NATIVE_BETA
 
 
-#: Sub-steps of an iteration up to the recorder (the prologue, ForceResetter, the collider and the
-#: InteractionLoop) and after it (the NewtonIntegrator and the epilogue): build()'s engines.
-BEFORE_RECORDER, AFTER_RECORDER = 4, 2
-
-
 def run_steps(steps):
     """Run `steps` iterations of the scene build() made, the recorder after the InteractionLoop of
     each (iteration 0 included); {column: list of floats} of the rows recorded (one per iteration
@@ -130,10 +126,16 @@ def run_steps(steps):
     put_overlap, put_rate, put_force = overlaps.append, rates.append, normal_forces.append
     if O.iter != 0:
         raise RuntimeError("the scene starts at iteration %d, not 0" % O.iter)
+    if [type(e).__name__ for e in O.engines] != ["ForceResetter", "InsertionSortCollider", "InteractionLoop",
+                                                  "NewtonIntegrator"]:
+        raise RuntimeError("the sub-steps below are build()'s four engines, not %s" % O.engines)
     O.subStepping = True
     try:
         for _ in range(steps):
-            step(); step(); step(); step()  # BEFORE_RECORDER
+            step()  # the prologue
+            step()  # ForceResetter
+            step()  # the collider
+            step()  # the InteractionLoop
             if two:
                 overlap = R12 - (B.pos[0] - A.pos[0])
                 rate_half = A.vel[0] - B.vel[0]
@@ -152,7 +154,8 @@ def run_steps(steps):
             put_overlap(overlap)
             put_rate(rate_half - force * dt / two_M)
             put_force(force)
-            step(); step()  # AFTER_RECORDER
+            step()  # the NewtonIntegrator
+            step()  # the epilogue: O.iter + 1
     finally:
         O.subStepping = False
     # k dt, not O.time: YADE adds dt to O.time every step, a sum that drifts from k dt by rounding
@@ -172,7 +175,7 @@ for run in JOB["runs"]:
         cols = run_steps(int(run["steps"]))
         rows = len(cols["time"])
         if O.iter != int(run["steps"]) or rows != int(run["steps"]):
-            raise RuntimeError("stopped at iteration %d of %d with %d rows (error inside the step)" % (O.iter, run["steps"], rows))
+            raise RuntimeError("stopped at iteration %d of %d with %d rows (the recorder missed iterations)" % (O.iter, run["steps"], rows))
         with open(run["out"], "w") as f:
             f.write("time,overlap,normal_velocity,normal_force\n")
             f.write("\n".join(map("%.17g,%.17g,%.17g,%.17g".__mod__,
