@@ -152,8 +152,9 @@ KRATOS_NO_VISCOELASTIC = (
 
 # Process costs measured here (Debian packages, 2 shared cores, steel case, fix print /
 # PyRunner every step, one process per sweep; engine process wall time, median of a few runs; YADE's
-# driver has since dropped the PyRunner for its own sub-step loop, ~2.4x cheaper per sample on the
-# benchmark sweep: benchmarks/engine_samples.py):
+# driver has since dropped the PyRunner for its own sub-step loop: its steps ~10x cheaper, a sample
+# of benchmarks/engine_samples.py's sweep 2.0-2.7x, start-up included (~1.5 s: a third importing
+# IPython, a third loading plugins)):
 #   LIGGGHTS 3.8.0   start-up 0.35 s, 7.3 us/step (2 runs of 25 300 steps: 0.71 s), ~1 ms/run
 #   LAMMPS 29Sep2021 start-up 0.35 s, 8.5 us/step (2 runs of 25 300 steps: 0.78 s), ~1 ms/run
 #   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
