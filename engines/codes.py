@@ -141,8 +141,8 @@ class EngineCode:
 #: What the study supplies of YADE 2023's viscoelastic laws (cases/decks/yade/collisions.py).
 YADE_PYRUNNER = ("YADE 2023.02a has no viscoelastic Hertz law, and from 2024.02a its own (MindlinPhys.beta) is "
                  "clipped at zero force: the dissipative force c delta^(1/2) d(delta)/dt is added at every step by "
-                 "the study's own Python (a PyRunner of cases/decks/yade/collisions.py), so these cells validate "
-                 "YADE's Hertz force and integrator plus the project's damping, not a damping law of YADE's")
+                 "the study's own Python (the step recorder of cases/decks/yade/collisions.py), so these cells "
+                 "validate YADE's Hertz force and integrator plus the project's damping, not a damping law of YADE's")
 
 #: Why Kratos 10.4 has no viscoelastic cell (engines.kratos's docstring cites the sources).
 KRATOS_NO_VISCOELASTIC = (
@@ -151,7 +151,10 @@ KRATOS_NO_VISCOELASTIC = (
     "delta^(1/4) d(delta)/dt, not delta^(1/2) d(delta)/dt")
 
 # Process costs measured here (Debian packages, 2 shared cores, steel case, fix print /
-# PyRunner every step, one process per sweep; engine process wall time, median of a few runs):
+# PyRunner every step, one process per sweep; engine process wall time, median of a few runs; YADE's
+# driver has since dropped the PyRunner for its own sub-step loop: its steps ~10x cheaper, a sample
+# of benchmarks/engine_samples.py's sweep 2.0-2.7x, start-up included (~1.5 s: a third importing
+# IPython, a third loading plugins)):
 #   LIGGGHTS 3.8.0   start-up 0.35 s, 7.3 us/step (2 runs of 25 300 steps: 0.71 s), ~1 ms/run
 #   LAMMPS 29Sep2021 start-up 0.35 s, 8.5 us/step (2 runs of 25 300 steps: 0.78 s), ~1 ms/run
 #   YADE 2023.02a    start-up 1.45 s, 30 us/step (2 runs of 25 300 steps: 3.09 s), ~20 ms/run
