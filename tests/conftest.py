@@ -158,7 +158,8 @@ def _refuse_processes(nodeid: str):
     def refuse(self, args, *rest, **kwargs):
         shown = args if isinstance(args, str) else " ".join(map(str, args))
         raise UnitTierError(f"{nodeid}: a unit test started a process ({shown[:100]}); the unit tier runs in-process "
-                            "only: mark the test `engine` or `workflow`, or list its file in tests/conftest.py TIERS")
+                            "only: let the fixture that starts it request `runs_engine` or `runs_workflow` "
+                            "(tests/conftest.py TIER_FIXTURES), or mark the test `engine` or `workflow`")
 
     return refuse
 
