@@ -2,7 +2,10 @@
 also from the copied projects in tmp folders, which hold only the workflow: put the project first
 on PYTHONPATH, ahead of whatever `pip install -e` the venv points at.
 
-Every test is in one tier, by its file (`TIERS`) unless it is marked with a tier of its own:
+Every test is in one tier, by what it starts: its own tier mark if it has one, else the tier of
+the fixtures it uses (`TIER_FIXTURES`: `runs_engine`, `runs_workflow`, requested by the fixtures
+that start engines, Snakemake, the cluster), else its file's (`TIERS`, for the tests that start
+processes themselves), else `unit`:
 `unit` runs in-process only, no engine and no process of any kind (`make test-unit`, on any
 machine; a unit test that starts a process fails, naming itself: `pytest_runtest_call`),
 `engine` runs real engines, `workflow` runs Snakemake (with real engines, and the SLURM cluster
@@ -20,16 +23,18 @@ import os
 import signal
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
 
 
-#: The test files of the two tiers above `unit` (every other file is `unit`). Every
-#: test_engine_*.py is an engine test (`tier_of`): a new code's own tests need no entry here.
+#: The test files whose tests start processes themselves, without a fixture of TIER_FIXTURES or a
+#: tier mark of their own (every other test is in its fixtures' tier, else `unit`): a new file
+#: whose tests use those fixtures, or carry their mark, needs no entry here.
 TIERS = {
     "engine": {"test_engine_*.py", "test_unequal_spheres.py"},
-    "workflow": {"test_workflow.py", "test_study_failures.py", "test_slurm.py", "test_resolution.py", "test_builds.py",
-                 "test_readme.py", "test_killed_workflow.py", "test_cli.py", "test_interrupted_tests.py"},
+    "workflow": {"test_workflow.py", "test_study_failures.py", "test_builds.py", "test_readme.py", "test_cli.py"},
 }
 
 
@@ -88,12 +93,36 @@ def pytest_sessionfinish(session):
         finish_test_run()
 
 
+#: The fixtures that give a test its tier by what they start, highest tier first: a fixture that
+#: starts an engine (or hands one to the test) requests `runs_engine`, one that starts Snakemake, the
+#: SLURM cluster or the project's commands `runs_workflow`, and every test that uses it, directly or
+#: through other fixtures (`item.fixturenames`), is in that tier, whatever file it is in.
+TIER_FIXTURES = {"workflow": "runs_workflow", "engine": "runs_engine"}
+
+
+@pytest.fixture(scope="session")
+def runs_workflow():
+    """A test that uses it, directly or through a fixture, is in the `workflow` tier (TIER_FIXTURES)."""
+
+
+@pytest.fixture(scope="session")
+def runs_engine():
+    """A test that uses it, directly or through a fixture, is in the `engine` tier (TIER_FIXTURES)."""
+
+
 def pytest_collection_modifyitems(config, items):
     import pytest
 
     for item in items:
         if not any(item.get_closest_marker(tier) for tier in ("unit", *TIERS)):  # a test's own tier holds
-            item.add_marker(getattr(pytest.mark, tier_of(item.path.name)))
+            item.add_marker(getattr(pytest.mark, tier_of_item(item)))
+
+
+def tier_of_item(item) -> str:
+    """A test's tier by what it starts: the highest tier of TIER_FIXTURES whose fixture it uses, else its
+    file's (`tier_of`)."""
+    names = set(getattr(item, "fixturenames", ()))
+    return next((t for t, fixture in TIER_FIXTURES.items() if fixture in names), None) or tier_of(item.path.name)
 
 
 def tier_of(file_name: str) -> str:
@@ -129,7 +158,8 @@ def _refuse_processes(nodeid: str):
     def refuse(self, args, *rest, **kwargs):
         shown = args if isinstance(args, str) else " ".join(map(str, args))
         raise UnitTierError(f"{nodeid}: a unit test started a process ({shown[:100]}); the unit tier runs in-process "
-                            "only: mark the test `engine` or `workflow`, or list its file in tests/conftest.py TIERS")
+                            "only: let the fixture that starts it request `runs_engine` or `runs_workflow` "
+                            "(tests/conftest.py TIER_FIXTURES), or mark the test `engine` or `workflow`")
 
     return refuse
 

@@ -19,12 +19,12 @@ GEOMETRIES = ("sphere-sphere", "sphere-plane")
 
 
 @pytest.fixture(autouse=True)
-def _needs_esys():
+def _needs_esys(runs_engine):
     require_engine("esysparticle", "esys-particle")
 
 
 @pytest.fixture(scope="module")
-def sweep(tmp_path_factory):
+def sweep(tmp_path_factory, runs_engine):
     require_engine("esysparticle", "esys-particle")
     eps = solve_collision(0.1)["eps_F0"]
     specs = [RunSpec("steel", "esys", law, steel_pair(g), VELOCITY)

@@ -44,12 +44,12 @@ def require_kratos():
 
 
 @pytest.fixture(autouse=True)
-def _needs_kratos():
+def _needs_kratos(runs_engine):
     require_kratos()
 
 
 @pytest.fixture(scope="module")
-def sweep(tmp_path_factory):
+def sweep(tmp_path_factory, runs_engine):
     require_kratos()
     eps = solve_collision(0.1)["eps_F0"]
     specs = [RunSpec("steel", "kratos", "elastic", steel_pair(g), VELOCITY) for g in GEOMETRIES]

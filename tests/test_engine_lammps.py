@@ -18,12 +18,12 @@ GEOMETRIES = ("sphere-sphere", "sphere-plane")
 
 
 @pytest.fixture(autouse=True)
-def _needs_lammps():
+def _needs_lammps(runs_engine):
     require_engine("lmp", "lammps")
 
 
 @pytest.fixture(scope="module")
-def sweep(tmp_path_factory):
+def sweep(tmp_path_factory, runs_engine):
     require_engine("lmp", "lammps")
     specs = [RunSpec("steel", "lammps", law, steel_pair(g), VELOCITY)
              for g in GEOMETRIES for law in ("viscoelastic", "viscoelastic_clipped")]

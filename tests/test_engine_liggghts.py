@@ -14,7 +14,7 @@ from records.dump_file import read_dump
 
 
 @pytest.fixture(autouse=True)
-def _needs_liggghts():
+def _needs_liggghts(runs_engine):
     require_engine("liggghts", "liggghts")
 
 

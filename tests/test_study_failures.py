@@ -76,7 +76,7 @@ sys.exit(rc)
 
 
 @pytest.fixture
-def project(tmp_path):
+def project(tmp_path, runs_workflow):
     require_engine("lmp", "lammps")
     return copy_workflow(tmp_path / "study", CASE)
 

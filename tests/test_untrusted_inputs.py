@@ -34,7 +34,7 @@ def snakemake(project: Path, *args, timeout=300):
 
 
 @pytest.fixture
-def project(tmp_path):
+def project(tmp_path, runs_workflow):
     require_engine("lmp", "lammps")
     return copy_workflow(tmp_path / "project")
 

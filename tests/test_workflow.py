@@ -24,7 +24,7 @@ def snakemake(*args, cwd=ROOT):
 
 
 @pytest.fixture
-def project(tmp_path):
+def project(tmp_path, runs_workflow):
     """A copy of the workflow (Snakefile, config, scripts, decks, the steel case) in tmp_path.
     Its default builds must be installed: parsing the workflow asks each for its version."""
     require_default_builds()
