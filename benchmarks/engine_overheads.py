@@ -12,10 +12,11 @@ For each build (LAMMPS 2025, Kratos 10.4, ESyS-Particle 2.3.5; `BUILDS`), REPEAT
 - start-up: the engine's process doing nothing (LAMMPS on an empty input; Kratos's Python
   importing Kratos and its DEMApplication; ESyS's `mpirun -np 2` making its LsmMpi and leaving);
 - the engine's own step and the record (Kratos and ESyS, whose drivers are Python): a probe in
-  the engine's own Python (`PROBES`) loads the build's driver without its sweep and times a run of
-  `PROBE_FACTOR` steps with the driver's loop, recording and not recording (ESyS: also stepping
-  and fetching the bodies from the worker, `getParticleList`, without the Python of the record),
-  and writing the rows. LAMMPS records inside its own loop (fix print): not separated.
+  the engine's own Python (`PROBES`) runs the build's driver up to its sweep (`SWEEP_MARKER`),
+  and times runs of `PROBE_FACTOR` steps with the driver's loop, recording and not recording
+  (ESyS: also stepping and fetching the bodies from the worker, `getParticleList`, without the
+  Python of the record), and the writing of the rows. LAMMPS records inside its own loop (fix
+  print): not separated.
 
 Run with `python -m benchmarks.engine_overheads` (`make bench`); it takes a minute or two.
 """
@@ -73,6 +74,9 @@ def sweep_seconds(build, factor) -> tuple[float, int]:
         return time.perf_counter() - t0, sum(s.steps() for s in specs)
 
 
+#: The line of the drivers (cases/decks/{kratos,esys}/collisions.py) where their sweep starts: a
+#: probe runs a driver up to it, for its functions.
+SWEEP_MARKER = "# The sweep (benchmarks/engine_overheads.py runs this file up to this line"
 # The probes run in the engine's own Python; argv: driver, job file. They print one JSON line.
 STARTUP = {
     "kratos": "import KratosMultiphysics, KratosMultiphysics.DEMApplication\n",
@@ -80,11 +84,13 @@ STARTUP = {
 }
 PROBES = {
     "kratos": r'''
-import json, runpy, shutil, sys, time
+import json, shutil, sys, time
 import KratosMultiphysics as KM
 KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
 sys.argv = sys.argv[1:]  # the driver reads its job from argv[1]
-driver = runpy.run_path(sys.argv[0], run_name="engine_overheads")
+driver = {"__name__": "engine_overheads", "__file__": sys.argv[0]}
+text = open(sys.argv[0]).read()
+exec(compile(text[:text.index(%(marker)r)], sys.argv[0], "exec"), driver)
 run = driver["JOB"]["runs"][0]
 out = {"step": [], "record": [], "write": []}
 for _ in range(%(repeats)d):
@@ -106,9 +112,11 @@ for _ in range(%(repeats)d):
 print("PROBE " + json.dumps(out), flush=True)
 ''',
     "esys": r'''
-import json, runpy, sys, time
+import json, sys, time
 sys.argv = sys.argv[1:]  # the driver reads its job from argv[1]
-driver = runpy.run_path(sys.argv[0], run_name="engine_overheads")
+driver = {"__name__": "engine_overheads", "__file__": sys.argv[0]}
+text = open(sys.argv[0]).read()
+exec(compile(text[:text.index(%(marker)r)], sys.argv[0], "exec"), driver)
 run_one = driver["run_one"]
 record = run_one.__globals__["record"]
 sim = driver["make_simulation"]()
@@ -181,7 +189,7 @@ def probe(build, work: Path) -> dict:
     job.write_text(json.dumps({"runs": runs, "status": str(work / "status.json"),
                                "progress": str(work / "progress.txt")}))
     script = work / f"{build.code}-probe.py"
-    script.write_text(PROBES[build.code] % {"repeats": REPEATS})
+    script.write_text(PROBES[build.code] % {"repeats": REPEATS, "marker": SWEEP_MARKER})
     cmd, env = engine_command(build, script, str(module.DRIVER), str(job))
     done = subprocess.run(cmd, env=env, cwd=work, capture_output=True, text=True, timeout=600)
     lines = [line for line in done.stdout.splitlines() if line.startswith("PROBE ")]

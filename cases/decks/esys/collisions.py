@@ -150,30 +150,25 @@ def write_rows(path, rows):
         f.write("\n".join(rows) + "\n")
 
 
-def main():
-    status = {"engine_version": "%s %s" % (install_info.pkgName, install_info.version), "runs": {}}
-    print(status["engine_version"], flush=True)
-    sim = make_simulation()
-    progress = open(JOB["progress"], "a")
-    for k, run in enumerate(RUNS):
-        progress.write("RUN %s\n" % run["name"])
+# The sweep (benchmarks/engine_overheads.py runs this file up to this line, for its functions).
+status = {"engine_version": "%s %s" % (install_info.pkgName, install_info.version), "runs": {}}
+print(status["engine_version"], flush=True)
+sim = make_simulation()
+progress = open(JOB["progress"], "a")
+for k, run in enumerate(RUNS):
+    progress.write("RUN %s\n" % run["name"])
+    progress.flush()
+    print("RUN %s" % run["name"], flush=True)
+    started = time.time()
+    try:
+        write_rows(run["out"], run_one(sim, k, run))
+        status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
+    except Exception as err:  # report per run; the host fails that run with this log
+        status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
+        print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
+        progress.write("RUN FAILED %s: %s\n" % (run["name"], str(err).replace("\n", " ")))
         progress.flush()
-        print("RUN %s" % run["name"], flush=True)
-        started = time.time()
-        try:
-            write_rows(run["out"], run_one(sim, k, run))
-            status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
-        except Exception as err:  # report per run; the host fails that run with this log
-            status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
-            print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
-            progress.write("RUN FAILED %s: %s\n" % (run["name"], str(err).replace("\n", " ")))
-            progress.flush()
-    with open(JOB["status"], "w") as f:
-        json.dump(status, f, indent=1)
-    sim.exit()
-    print("ESYS DONE", flush=True)
-
-
-# benchmarks/engine_overheads.py runs this file's functions without the sweep.
-if __name__ == "__main__":
-    main()
+with open(JOB["status"], "w") as f:
+    json.dump(status, f, indent=1)
+sim.exit()
+print("ESYS DONE", flush=True)

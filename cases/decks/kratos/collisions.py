@@ -351,25 +351,20 @@ def version():
         KM.Kernel.Version().replace('"', ""))  # the kernel says 10.4."4"--0-Release-x86_64
 
 
-def main():
-    # Kratos prints a page per run at INFO; warnings and errors are what the log needs.
-    KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
-    status = {"engine_version": version(), "runs": {}}
-    # The log (stdout) tells the host the build and the run in progress if Kratos hangs or crashes.
-    print(status["engine_version"], flush=True)
-    for run in JOB["runs"]:
-        print("RUN %s" % run["name"], flush=True)
-        started = time.time()
-        try:
-            simulate(run)
-            status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
-        except Exception as err:  # report per run; the host fails that run with this log
-            status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
-            print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
-    with open(JOB["status"], "w") as f:
-        json.dump(status, f, indent=1)
-
-
-# benchmarks/engine_overheads.py runs this file's functions without the sweep.
-if __name__ == "__main__":
-    main()
+# The sweep (benchmarks/engine_overheads.py runs this file up to this line, for its functions).
+# Kratos prints a page per run at INFO; warnings and errors are what the log needs.
+KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
+status = {"engine_version": version(), "runs": {}}
+# The log (stdout) tells the host the build and the run in progress if Kratos hangs or crashes.
+print(status["engine_version"], flush=True)
+for run in JOB["runs"]:
+    print("RUN %s" % run["name"], flush=True)
+    started = time.time()
+    try:
+        simulate(run)
+        status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
+    except Exception as err:  # report per run; the host fails that run with this log
+        status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
+        print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
+with open(JOB["status"], "w") as f:
+    json.dump(status, f, indent=1)
