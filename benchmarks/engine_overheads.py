@@ -224,11 +224,11 @@ def main():
               f"{statistics.median(fixed[build.id]):5.2f} s per sweep of {len(GEOMETRIES)} runs (fitted)")
         p = probes.get(build.id)
         if p:
-            parts = [f"own step {p['step'] * 1e6:6.1f} us"]
+            recording = f"recording {(p['record'] - p['step']) * 1e6:6.1f} us"
             if "fetch" in p:
-                parts.append(f"fetching the bodies (MPI) {(p['fetch'] - p['step']) * 1e6:6.1f} us")
-            parts += [f"recording {(p['record'] - p['step']) * 1e6:6.1f} us",
-                      f"writing {p['write'] * 1e6:5.1f} us per step (driver probe, {PROBE_FACTOR} steps a run)"]
+                recording += f" (of which fetching the bodies from the worker {(p['fetch'] - p['step']) * 1e6:.1f} us)"
+            parts = [f"own step {p['step'] * 1e6:6.1f} us", recording,
+                     f"writing {p['write'] * 1e6:5.1f} us per step (driver probe, {PROBE_FACTOR} steps a run)"]
             print("  " + " " * 12 + " " + ", ".join(parts))
 
 
