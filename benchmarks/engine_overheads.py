@@ -19,6 +19,14 @@ For each build (LAMMPS 2025, Kratos 10.4, ESyS-Particle 2.3.5; `BUILDS`), REPEAT
   print): not separated.
 
 Run with `python -m benchmarks.engine_overheads` (`make bench`); it takes a few minutes.
+
+Measured on the 2-core VM, lightly loaded (LAMMPS 2025: 15-18 us per sample, start-up 0.27 s):
+Kratos 10.4 57-60 us per sample (3.1-3.9 x; before its driver's fast loop 135-177 us), its own
+step 30-39 us (two spheres), recording 4-6 us, writing 5 us, start-up 0.22 s and ~0.15 s per
+run; ESyS 2.3.5 49-51 us (2.8-3.1 x), its own step 21-22 us, recording 27-30 us of which the
+round trip to the worker is 14-16 us, start-up 0.5 s (mpirun, two ranks; one rank is refused:
+'wrong number of processes'). Kratos's own step alone is about twice LAMMPS's whole sample, and
+ESyS's step and fetch together are; neither reaches the 2 x goal through its Python API.
 """
 
 import json
