@@ -38,7 +38,9 @@
 # and TOTAL_FORCES = F_n: the force lags the position by one step. Row n of the record pairs
 # x_n with F_n, and gives the full-step rate d(delta)/dt(t_n) = r(t_n + dt/2) + F_n dt / (2 M*)
 # (the force slows the approach: d^2 delta/dt^2 = -F / M*).
+import hashlib
 import importlib.metadata
+import inspect
 import json
 import math
 import os
@@ -140,12 +142,46 @@ def write_model(run, folder):
             f.write(sub_model_part("plane", [1, 2, 3], conditions=[1]))
 
 
+# The Python methods of one solution step that Recorder.RunSolutionLoop inlines (by owner): the
+# fast loop runs only where their source is the one it was written from (Kratos 10.4's, sha256
+# below); elsewhere (other releases) the stock loop runs, with the same record.
+STEP_METHODS = (
+    (AnalysisStage, ("RunSolutionLoop", "_AdvanceTime", "InitializeSolutionStep", "ApplyBoundaryConditions",
+                     "ChangeMaterialProperties", "SolveSolutionStep", "FinalizeSolutionStep")),
+    (DEMAnalysisStage, ("FinalizeSolutionStep", "RunAnalytics", "MakeAnalyticsMeasurements",
+                        "IsTimeToPrintPostProcess")),
+    ("solver", ("AdvanceInTime", "_UpdateTimeInModelParts", "_UpdateTimeInOneModelPart", "Predict",
+                "_MoveAllMeshes", "InitializeSolutionStep", "FixDOFsManually", "FixExternalForcesManually",
+                "SolveSolutionStep", "FinalizeSolutionStep")),
+)
+STEP_METHODS_SHA256 = "1959a174ae8213478771da7082598efec883bc60803c7e4240ca14a10c6c7e53"
+
+
+def step_methods_sha256(solver):
+    """sha256 of the source of STEP_METHODS, as this Kratos defines them."""
+    digest = hashlib.sha256()
+    for owner, names in STEP_METHODS:
+        cls = type(solver) if owner == "solver" else owner
+        for name in names:
+            digest.update(inspect.getsource(getattr(cls, name)).encode())
+    return digest.hexdigest()
+
+
+def empty(part):
+    """Whether a model part holds nothing: no node, element, condition or sub model part."""
+    return not (part.NumberOfNodes() or part.NumberOfElements() or part.NumberOfConditions()
+                or part.NumberOfSubModelParts())
+
+
 class Recorder(DEMAnalysisStage):
     """The DEM analysis of one run, recording sphere A (and B) after every solution step."""
 
+    #: False: the fast loop records nothing (benchmarks/engine_overheads.py times Kratos's own step).
+    recording = True
+
     def __init__(self, model, parameters, run, folder):
         self.run, self.folder = run, folder
-        self.states = []  # (t, overlap, d(overlap)/dt at the half step after, force on A along -x)
+        self.states = []  # (overlap, d(overlap)/dt at the half step before, force on A along -x)
         super().__init__(model, parameters)
 
     def GetMainPath(self):
@@ -182,13 +218,17 @@ class Recorder(DEMAnalysisStage):
             raise RuntimeError("the sphere model part has %d nodes, expected %d" % (len(nodes), expected))
         self.a = nodes[0]
         self.b = nodes[1] if expected == 2 else None
-        self.record()
+        # The fast loop leaves out what these would do (the stock loop does it).
+        self.fast = (hasattr(KM, "TensorAdaptors") and step_methods_sha256(self._GetSolver()) == STEP_METHODS_SHA256
+                     and not (p["dem_inlet_option"].GetBool() or self.do_print_results_option
+                              or self._GetListOfProcesses() or self.SurfacesAnalyzerClass.surface_analyzers_list
+                              or getattr(self, "rve_utils", None) is not None))
 
-    def FinalizeSolutionStep(self):
+    def FinalizeSolutionStep(self):  # the stock loop's
         super().FinalizeSolutionStep()
         self.record()
 
-    def record(self):
+    def record(self):  # the stock loop's
         a, b, run = self.a, self.b, self.run
         if b is not None:
             overlap = run["R1"] + run["R2"] - (b.X - a.X)
@@ -197,10 +237,93 @@ class Recorder(DEMAnalysisStage):
             overlap = run["R1"] + a.X
             rate = a.GetSolutionStepValue(KM.VELOCITY_X)
         force = -a.GetSolutionStepValue(KM.TOTAL_FORCES)[0]  # the repulsive normal force on A points to -x
-        self.states.append((self.spheres_model_part.ProcessInfo[KM.TIME], overlap, rate, force))
+        self.states.append((overlap, rate, force))
+
+    def RunSolutionLoop(self):
+        """The stock loop (AnalysisStage.RunSolutionLoop), or where Kratos is the release it was
+        written from (self.fast), the same loop with DEMAnalysisStage's and the sphere strategy's
+        step inlined: the same calls into Kratos in the same order, without the Python work
+        around them that this driver's options make void (progress reports, processes,
+        analytics, inlet, output; Initialize checks that they are off). Through the stock
+        methods a step took ~4 times Kratos's own SolveSolutionStep (model parts looked up by
+        name, a new AuxiliaryUtilities per model part and step, Parameters and hasattr lookups,
+        and Node.GetSolutionStepValue, which resolves among twenty overloads per call)."""
+        if not self.fast:
+            self.record()
+            return super().RunSolutionLoop()
+        solver = self._GetSolver()
+        strategy = solver.cplusplus_strategy
+        reset_flags, initialize = strategy.ResetPrescribedMotionFlagsRespectingImposedDofs, strategy.InitializeSolutionStep
+        solve, finalize = strategy.SolveSolutionStep, strategy.FinalizeSolutionStep
+        parts = solver.all_model_parts
+        spheres, clusters = parts.Get("SpheresPart"), parts.Get("ClusterPart")
+        inlet, faces = parts.Get("DEMInletPart"), parts.Get("RigidFacePart")
+        update_time = DEM.AuxiliaryUtilities().UpdateTimeInOneModelPart
+        move_meshes = solver.dem_fem_utils.MoveAllMeshes
+        dt = solver.dt
+        # The record reads the spheres' velocities and forces in one call each, into a tensor
+        # adaptor's array (a view, refreshed in place by CollectData).
+        order = [n.Id for n in spheres.Nodes]
+        velocity = KM.TensorAdaptors.HistoricalVariableTensorAdaptor(spheres.Nodes, KM.VELOCITY)
+        forces = KM.TensorAdaptors.HistoricalVariableTensorAdaptor(spheres.Nodes, KM.TOTAL_FORCES)
+        collect_velocity, collect_forces = velocity.CollectData, forces.CollectData
+        collect_velocity()
+        collect_forces()
+        v, f = velocity.data, forces.data
+        a, b = self.a, self.b
+        ia = order.index(a.Id)
+        append = self.states.append
+        if b is not None:
+            ib = order.index(b.Id)
+            contact = self.run["R1"] + self.run["R2"]
+
+            def record():
+                collect_velocity()
+                collect_forces()
+                append((contact - (b.X - a.X), v.item(ia, 0) - v.item(ib, 0), -f.item(ia, 0)))
+        else:
+            R1 = self.run["R1"]
+
+            def record():
+                collect_velocity()
+                collect_forces()
+                append((R1 + a.X, v.item(ia, 0), -f.item(ia, 0)))
+
+        if not self.recording:
+            def record():
+                pass
+        record()
+        # solver.AdvanceInTime sets the time in the ProcessInfo of the four model parts and
+        # solver.Predict moves the meshes of three: of those that hold something. The clusters'
+        # and the inlet's are empty here (and the walls' between two spheres): nothing reads
+        # their ProcessInfo, and they have no mesh to move.
+        timed = [part for part in (spheres, clusters, inlet, faces) if not empty(part)]
+        moved = [part for part in (spheres, inlet, faces) if not empty(part)]
+        time = self.time
+        for _ in range(int(self.run["steps"])):
+            time += dt
+            for part in timed:
+                update_time(part, time, dt, False)
+            for part in moved:
+                move_meshes(part, time, dt)
+            reset_flags()
+            initialize()
+            solve()
+            finalize()
+            # AnalysisStage.FinalizeSolutionStep: solver.FinalizeSolutionStep (processes: none)
+            record()
+        self.time = time
 
 
 def simulate(run):
+    stage, folder = make_stage(run)
+    stage.Run()
+    write_record(run, stage.states)
+    shutil.rmtree(folder)
+
+
+def make_stage(run):
+    """(the run's Recorder, the folder of its Kratos inputs)."""
     folder = run["out"] + ".d"
     shutil.rmtree(folder, ignore_errors=True)
     os.makedirs(folder)
@@ -211,21 +334,21 @@ def simulate(run):
     write_model(run, folder)
     with open(os.path.join(folder, "ProjectParametersDEM.json")) as f:
         parameters = KM.Parameters(f.read())
-    stage = Recorder(KM.Model(), parameters, run, folder)
-    stage.Run()
-    s = stage.states
+    return Recorder(KM.Model(), parameters, run, folder), folder
+
+
+def write_record(run, s):
+    """<out> from the states after each step (Recorder.states)."""
     steps, dt, M = int(run["steps"]), run["dt"], run["M"]
     if len(s) != steps + 1:
         raise RuntimeError("recorded %d states, expected %d" % (len(s), steps + 1))
     rows = []
     for n in range(steps):  # x_n from state n; F_n and the half-step rate from state n + 1
-        t, overlap = n * dt, s[n][1]
-        force = s[n + 1][3]
-        rows.append("%.17g,%.17g,%.17g,%.17g" % (t, overlap, s[n + 1][2] + force * dt / (2.0 * M), force))
+        force = s[n + 1][2]
+        rows.append("%.17g,%.17g,%.17g,%.17g" % (n * dt, s[n][0], s[n + 1][1] + force * dt / (2.0 * M), force))
     with open(run["out"], "w") as f:
         f.write("time,overlap,normal_velocity,normal_force\n")
         f.write("\n".join(rows) + "\n")
-    shutil.rmtree(folder)
 
 
 def version():
@@ -234,6 +357,7 @@ def version():
         KM.Kernel.Version().replace('"', ""))  # the kernel says 10.4."4"--0-Release-x86_64
 
 
+# The sweep (benchmarks/engine_overheads.py runs this file up to this line, for its functions).
 # Kratos prints a page per run at INFO; warnings and errors are what the log needs.
 KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
 status = {"engine_version": version(), "runs": {}}
