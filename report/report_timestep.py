@@ -1,4 +1,4 @@
-"""The reports' time-step figures, from the advisor (`postprocess.timestep`):
+"""The reports' time-step figures, from the advisor (`analysis.timestep`):
 
 - each case report: its laws' errors against dt / T_R (0.02-0.5), the band over the contact's start
   phases shaded, with the lines of 1e-2, 1e-3 and 1e-4 (`case_error_maps`);
@@ -20,8 +20,8 @@ from engines.codes import CODES, keyword_of
 from records.files import save_figure
 from reference import solve_collision
 
-from .map_reference import map_law
-from .timestep import Collision, errors_at, largest_step
+from analysis.map_reference import map_law
+from analysis.timestep import Collision, errors_at, largest_step
 
 #: The steps of the case reports' error maps [T_R] and the tolerances drawn and tabulated.
 FRACTIONS = np.geomspace(0.02, 0.5, 10)

@@ -1,6 +1,6 @@
 """The comparison report: results/report.md (read by people and CI), report.html and the plots.
 
-The verdict it shows is decided in `postprocess.gate` (which also writes verdict.json and the
+The verdict it shows is decided in `verdict.gate` (which also writes verdict.json and the
 JUnit XML); the report only presents it, FAIL at the top with every failing check named.
 
 Every law is gated against its own equation: the model's laws (viscoelastic, clipped, elastic) against
@@ -31,8 +31,9 @@ from engines.codes import CODES, integrators, keyword_of
 from records.files import write_atomically
 from reference import FIRST_ORDER, HERTZ_TAU
 
-from .gate import GATED_QUANTITIES, gating, with_build
-from .quantities import readable
+from records.quantities import readable
+from verdict.gate import GATED_QUANTITIES, gating, with_build
+
 from .report_matrix import build_order, matrix_cells, matrix_html, matrix_markdown, md_text
 from .report_plots import plot_errors, plot_ratios, reference_curve, start_drawing
 from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence
@@ -135,8 +136,8 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
 class ReportInputs:
     """What the report shows, as the study's rules read it.
 
-    table: summary.csv; checks, verdict: from `postprocess.gate` (the report shows them, as a
-    matrix, `postprocess.report_matrix`, and links to checks.csv, which the caller writes next to
+    table: summary.csv; checks, verdict: from `verdict.gate` (the report shows them, as a
+    matrix, `report.report_matrix`, and links to checks.csv, which the caller writes next to
     it; it decides nothing); series_cmp: the paper's series coefficients against the solver's;
     timing: the engine jobs' count and seconds; not_run: velocities the plan left out, with the
     reason; failed_runs: runs the engine did not complete (of every law: gated ones also fail
@@ -164,9 +165,9 @@ class ReportInputs:
     convergence: pd.DataFrame | None = None
     convergence_orders: pd.DataFrame | None = None
     convergence_spread: pd.DataFrame | None = None
-    #: The largest dt / T_R for each tolerance over K and e (postprocess.report_timestep.largest_steps).
+    #: The largest dt / T_R for each tolerance over K and e (report.report_timestep.largest_steps).
     largest_steps: pd.DataFrame | None = None
-    #: A case report's time-step section (postprocess.report_timestep.case_error_maps), Markdown lines.
+    #: A case report's time-step section (report.report_timestep.case_error_maps), Markdown lines.
     timestep: list = field(default_factory=list)
     regressions: pd.DataFrame | None = None
     claims: pd.DataFrame | None = None
@@ -353,7 +354,7 @@ def stale_build_folders(folder: Path, builds) -> list[str]:
 
 def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     """Write report.md, report.html and the plots of `inputs` into out_dir (the plots in
-    `workers` processes, `postprocess.report_plots.start_drawing`).
+    `workers` processes, `report.report_plots.start_drawing`).
 
     Every law is gated: its results are shown by its ladders' limits (summary rows with dt = 0),
     its rungs in the ladders' and the map's figures.
@@ -557,7 +558,7 @@ def _calibration_section(markdown_text: str, folder: str = "calibration") -> lis
 def _convergence_section(largest: pd.DataFrame, orders: pd.DataFrame | None = None,
                          spread: pd.DataFrame | None = None) -> list[str]:
     """Which time step a user may take: the largest dt per build x law x criterion that keeps T,
-    A and eps within each threshold (`postprocess.convergence.largest_dt_table`), the observed
+    A and eps within each threshold (`analysis.convergence.largest_dt_table`), the observed
     orders, and how far the builds differ."""
     def dt_text(r):
         if r.how == "none":
@@ -647,7 +648,7 @@ def _paper_section(claims: pd.DataFrame, table1: pd.DataFrame | None, energy_che
         lines += ["", "Largest |DEM - reference| of each energy fraction during the contact:", "",
                   _md_table(energy_check, ".2g")]
     lines += ["", "![Fig. 4](paper/fig4_energy.png)", "",
-              "Fig. 5: the fracture velocity V_F/V_P against R/L_d (`postprocess/paper/fracture.py`). The paper does "
+              "Fig. 5: the fracture velocity V_F/V_P against R/L_d (`report/paper/fracture.py`). The paper does "
               "not say which pressure, at which instant, reaches P0. Three readings are drawn: the elastic Hertz "
               "pressure at maximum compression (the default: V_F/V_P > 1, tending to 1 for large bodies, the paper's "
               "trend), the same at the instant of maximum force (higher V_F), and the total force, viscous part "

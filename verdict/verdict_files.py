@@ -18,11 +18,11 @@ still claims PASS for results it does not describe:
 
 The rules that write a verdict (the checks, the reports, the gates) write it anew. A verdict file
 written outside its rule (marked stale here, or the FAIL of a lost job, or an interrupted run's,
-`postprocess.failed_jobs`) is dated 1 January 1970 (`backdate`): older than any input, so that
+`verdict.failed_jobs`) is dated 1 January 1970 (`backdate`): older than any input, so that
 the next run of any target that needs it reruns the rule that writes it, and everything upstream
 that is missing, instead of taking it as up to date.
 
-Kept apart from `postprocess.gate` (which needs pandas) because every workflow rule imports it
+Kept apart from `verdict.gate` (which needs pandas) because every workflow rule imports it
 first, through workflow/scripts/common.py: standard library only.
 """
 
@@ -47,7 +47,7 @@ QUANTITIES = ("T", "A", "eps")
 #: A relative tolerance above this is allowed, with a warning in the log, verdict.json, gate.txt
 #: and the report: a PASS at it says little about an engine.
 LOOSE_TOLERANCE = 1e-2
-#: The JUnit test suite the study's gate writes (postprocess.gate.junit_xml).
+#: The JUnit test suite the study's gate writes (verdict.gate.junit_xml).
 SUITE = "hertz-dem-gate"
 #: The stale banner's markers in report.md and report.html: a new note replaces the old one.
 _MD_BANNER = re.compile(r"<!-- stale -->.*?<!-- /stale -->\n\n", re.S)
@@ -111,7 +111,7 @@ def tolerance_text(tolerance: dict) -> str:
 
 
 def gate_text(verdict: dict, summary_sha256: str) -> str:
-    """gate.txt of a PASS `verdict` (`postprocess.gate.verdict_of`): how many checks passed, the
+    """gate.txt of a PASS `verdict` (`verdict.gate.verdict_of`): how many checks passed, the
     tolerances they were judged against, the summary they were computed from, then the verdict's
     warnings, one line each::
 
@@ -265,7 +265,15 @@ def verdict_line(results_dir="results") -> str:
     return text + judged + (f", {lost} job(s) did not finish" if lost else "") + where + warnings
 
 
-if __name__ == "__main__":  # make study / make ci-study end their log with this line
+def main(argv=None) -> int:
+    """`python -m postprocess.verdict_files [RESULTS]`: make study / make ci-study end their log with
+    this line (`verdict_line`)."""
     import sys
 
-    print(verdict_line(sys.argv[1] if len(sys.argv) > 1 else "results"))
+    argv = sys.argv[1:] if argv is None else argv
+    print(verdict_line(argv[0] if argv else "results"))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
