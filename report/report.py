@@ -33,6 +33,7 @@ from reference import FIRST_ORDER, HERTZ_TAU
 
 from records.quantities import readable
 from verdict.gate import GATED_QUANTITIES, gating, with_build
+from verdict.verdict_files import html_page
 
 from .report_matrix import build_order, matrix_cells, matrix_html, matrix_markdown, md_text
 from .report_plots import plot_errors, plot_ratios, reference_curve, start_drawing
@@ -693,5 +694,4 @@ def write_html(markdown_text: str, path: Path, title: str) -> None:
     import markdown
 
     body = markdown.markdown(markdown_text, extensions=["tables"])
-    write_atomically(path, f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-                    f"<style>{CSS}</style></head><body>{body}</body></html>")
+    write_atomically(path, html_page(title, body, CSS))

@@ -36,6 +36,7 @@ from pathlib import Path
 import pandas as pd
 
 from .gate import GATED_QUANTITIES, GROUP, gate_checks, limit_rows, with_build
+from .verdict_files import html_page, junit_bytes, write_junit_xml
 from records.files import write_atomically
 
 KEY = [*GROUP, "quantity"]
@@ -178,6 +179,11 @@ def markdown(comparison: pd.DataFrame, baseline: str, candidate: str, factor: fl
 
 
 def junit(comparison: pd.DataFrame) -> bytes:
+    """JUnit XML (`junit_element`) as written (`verdict.verdict_files.junit_bytes`)."""
+    return junit_bytes(junit_element(comparison))
+
+
+def junit_element(comparison: pd.DataFrame) -> ET.Element:
     """JUnit XML: one test case per check, a <failure> for each regression."""
     n = int((comparison.status == "regression").sum())
     suites = ET.Element("testsuites", name="hertz-dem-compare", tests=str(len(comparison)), failures=str(n))
@@ -191,7 +197,7 @@ def junit(comparison: pd.DataFrame) -> bytes:
             ET.SubElement(case, "failure", message=text, type="regression").text = r["candidate_reason"] or text
         ET.SubElement(case, "system-out").text = text
     ET.indent(suites)
-    return ET.tostring(suites, encoding="utf-8", xml_declaration=True)
+    return suites
 
 
 def describe_build(folder, build: str) -> str:
@@ -225,7 +231,6 @@ def write_comparison(comparison: pd.DataFrame, out_dir, baseline: str, candidate
     """compare.csv, compare.md, compare.html and compare-junit.xml in `out_dir`; `title` heads
     the report ("Build comparison: <baseline build> (<version>, <executable>) -> <candidate> (...)"
     for two builds of one study)."""
-    import html
     import markdown as md
 
     out = Path(out_dir)
@@ -234,11 +239,10 @@ def write_comparison(comparison: pd.DataFrame, out_dir, baseline: str, candidate
     write_atomically(out / "compare.csv", comparison.to_csv(index=False, float_format="%.6g"))
     write_atomically(out / "compare.md", text)
     body = md.markdown(text, extensions=["tables"])
-    write_atomically(out / "compare.html", "<!DOCTYPE html><html><head><meta charset='utf-8'><title>"
-                     f"{html.escape(title)}</title><style>body{{font-family:sans-serif;max-width:1300px;margin:auto}}"
-                     "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}"
-                     f"</style></head><body>{body}</body></html>")
-    write_atomically(out / "compare-junit.xml", junit(comparison))
+    write_atomically(out / "compare.html", html_page(title, body, "body{font-family:sans-serif;max-width:1300px;"
+                                                     "margin:auto}table{border-collapse:collapse}td,th{border:1px "
+                                                     "solid #ccc;padding:2px 6px;font-size:13px}"))
+    write_junit_xml(junit_element(comparison), out / "compare-junit.xml")
 
 
 def main(argv=None) -> int:

@@ -25,7 +25,6 @@ file or the new one, never half of one.
 
 from __future__ import annotations
 
-import json
 import math
 import xml.etree.ElementTree as ET
 
@@ -40,7 +39,8 @@ from records.quantities import gated_quantities  # read at each call: the table'
 
 from analysis.checks import judge, judgement, with_build  # noqa: F401  (the reports import with_build from here)
 
-from .verdict_files import tolerance_problems, tolerance_warnings
+from .verdict_files import tolerance_problems, tolerance_warnings, write_junit_xml
+from .verdict_files import write_verdict  # noqa: F401  (the one writer of verdict.json; its callers import it from here too)
 
 GROUP = ["build", "law", "geometry", "criterion"]
 #: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
@@ -316,16 +316,8 @@ def junit_xml(checks: pd.DataFrame, suite: str = "hertz-dem-gate") -> ET.Element
 
 
 def write_junit(checks: pd.DataFrame, path) -> None:
-    tree = junit_xml(checks)
-    import io
-
-    buf = io.BytesIO()
-    tree.write(buf, encoding="utf-8", xml_declaration=True)
-    write_atomically(path, buf.getvalue())
-
-
-def write_verdict(verdict: dict, path) -> None:
-    write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+    """junit.xml of `checks` (`junit_xml`), through the one JUnit writer (`write_junit_xml`)."""
+    write_junit_xml(junit_xml(checks).getroot(), path)
 
 
 def write_checks(checks: pd.DataFrame, path) -> None:

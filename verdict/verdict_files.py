@@ -1,9 +1,11 @@
 """The files that carry a verdict (gate.txt, verdict.json, junit.xml, checks.csv, the report):
 marked stale before results change, the PASS stamp (gate.txt) withdrawn when a verdict is being
 made anew, its text (`gate_text`), the tolerances a verdict may be made at (`tolerance_problems`,
-`tolerance_warnings`), and the verdict of an interrupted run. (They are written with
+`tolerance_warnings`), and the verdict of an interrupted run. Every verdict.json and JUnit XML of
+the study is written by `write_verdict` and `write_junit_xml` here (the gate's `write_verdict_files`,
+the lost jobs' FAIL, a stale mark, the comparison of two studies): one format, written with
 `records.files.write_atomically` and tied to the summary they describe by its
-`records.files.file_sha256`.)
+`records.files.file_sha256`.
 
 A rule that changes results marks the verdict of its folders *stale* (`mark_stale`), it does not
 remove it: the user keeps reading the study's report while one case reruns, and nothing in it
@@ -52,6 +54,31 @@ SUITE = "hertz-dem-gate"
 #: The stale banner's markers in report.md and report.html: a new note replaces the old one.
 _MD_BANNER = re.compile(r"<!-- stale -->.*?<!-- /stale -->\n\n", re.S)
 _HTML_BANNER = re.compile(r"<section class='stale'>.*?</section>", re.S)
+
+
+def write_verdict(verdict: dict, path) -> None:
+    """verdict.json: `verdict` as JSON (indent 1, a final newline), atomically. The one writer of it."""
+    write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+
+
+def junit_bytes(root: ET.Element) -> bytes:
+    """A JUnit XML document `root` as the study writes it: UTF-8 with its XML declaration."""
+    return ET.tostring(root, encoding="utf-8", xml_declaration=True)
+
+
+def write_junit_xml(root: ET.Element, path) -> None:
+    """JUnit XML `root` (`junit_bytes`), atomically. The one writer of the study's JUnit files."""
+    write_atomically(path, junit_bytes(root))
+
+
+def html_page(title: str, body: str, css: str | None = None) -> str:
+    """The study's HTML page around `body` (HTML): its head (UTF-8, `title` escaped, the style sheet
+    `css` where given) and body. The one page shell of the study's pages (the report, a comparison
+    of two studies, the verdict of lost jobs or of an interrupted run); here, below the reports,
+    because the verdict's own writers (`verdict.failed_jobs`, `verdict.compare`) write pages too."""
+    style = f"<style>{css}</style>" if css is not None else ""
+    return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>{style}"
+            f"</head><body>{body}</body></html>")
 
 
 def withdraw_verdict(results_dir="results") -> list[str]:
@@ -168,7 +195,7 @@ def mark_stale(results_dir, by: str, rerun: str = "snakemake -j2 all") -> list[s
         else:
             note["was"] = verdict.get("verdict")
         verdict.update(verdict="STALE", stale=note, **{"pass": False})
-        write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+        write_verdict(verdict, path)
         changed.append(str(path))
     sentence = stale_sentence(note)
     if (folder / "junit.xml").exists():
@@ -236,7 +263,7 @@ def _junit_stale(path: Path, sentence: str) -> None:
             case.remove(child)
     ET.SubElement(case, "failure", message=sentence, type="stale")
     ET.indent(root)
-    write_atomically(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    write_junit_xml(root, path)
 
 
 def verdict_line(results_dir="results") -> str:
