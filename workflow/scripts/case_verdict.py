@@ -20,6 +20,8 @@ from contact_model import Body, ContactPair
 from engines.codes import CODES
 from verdict.gate import gate_checks, verdict_of, write_verdict_files
 from report.report import ReportInputs, stale_build_folders, write_report
+from analysis.report_references import report_references
+from analysis.timestep_maps import case_error_bands
 from report.report_timestep import case_error_maps
 from verdict.verdict_files import withdraw_gate
 from records.files import file_sha256
@@ -50,13 +52,14 @@ def report():
     pairs = {g: ContactPair(g, Body(**p["body_1"]), Body(**p["body_2"]), p["E"], p["eta"])
              for g, p in plan["pairs"].items()}
     (folder / "plots").mkdir(parents=True, exist_ok=True)
-    _, timestep = case_error_maps(plan, pairs, folder / "plots" / "timestep.png")
+    reference = pd.read_csv(snakemake.input.reference)
+    _, timestep = case_error_maps(plan, case_error_bands(plan, pairs), folder / "plots" / "timestep.png")
     write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
                               not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
                               plan_notes=plan.get("notes", []), timestep=timestep,
                               stale_folders=stale_build_folders(Path(snakemake.output.md).parent, builds),
                               code_notes=code_notes, ladder=snakemake.params.ladder,
-                              reference=pd.read_csv(snakemake.input.reference),
+                              reference=reference, references=report_references(table, reference),
                               title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",
                               folder=folder.as_posix()), folder)
 

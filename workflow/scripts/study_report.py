@@ -10,6 +10,7 @@ from pathlib import Path
 import pandas as pd
 
 from common import log_to
+from analysis.report_references import report_references
 from engines.codes import CODES
 from report.report import ReportInputs, write_report
 from verdict.verdict_files import withdraw_gate
@@ -50,6 +51,7 @@ optional = {key: pd.read_csv(snakemake.input[key])
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
+optional["references"] = report_references(table, optional["reference"])  # what the report shows of the solver
 write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), timing, not_run, failed_runs,
                           builds=builds, not_available=not_available, code_notes=code_notes,
                           plan_notes=[note for p in plans for note in p.get("notes", [])],
