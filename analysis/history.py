@@ -11,7 +11,7 @@ Every release of a code runs the same checks (`workflow/scripts/history_runs.py`
   has (`analysis.keyword_promise`: delivered - requested, at dt -> 0): LAMMPS's ``tsuji``,
   YADE's and Kratos's Thornton fit, LAMMPS's ``coeff_restitution``.
 
-A check's status is 'pass', 'fail', 'unresolved' (`verdict.gate.judge`), 'not available' (the
+A check's status is 'pass', 'fail', 'unresolved' (`analysis.checks.judge`, as the gate judges), 'not available' (the
 release predates the keyword), 'not installed' (the release could not be installed: the command
 is named) or 'run failed' (the engine did not complete a run: the detail names it).
 
@@ -353,7 +353,7 @@ def _judged(error: float, resolution: float, tolerance: float) -> str:
 
 def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, problem: str = "") -> dict:
     """The history row of a ladder's limit (`analysis.regressions.ladder_limit`: err_<q> and
-    resolution_<q> for q in T, A, eps): judged per quantity as the gate judges (`verdict.gate.judge`,
+    resolution_<q> for q in T, A, eps): judged per quantity as the gate judges (`analysis.checks.judge`,
     with `tolerance` per quantity); its error and resolution are those of the quantity that is
     worst against its tolerance. `problem` (a run that failed) makes it 'run failed'."""
     if problem or limit is None:

@@ -1,4 +1,6 @@
-"""`python -m postprocess.compare ...`: compare two studies and gate the candidate. The code lives in `verdict.compare`."""
+"""`python -m postprocess.compare ...`: compare two studies and gate the candidate.
+
+The code lives in `verdict.compare`."""
 
 from verdict.compare import main
 

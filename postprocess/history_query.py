@@ -1,4 +1,6 @@
-"""`python -m postprocess.history_query ...`: a case's answer from the release history. The code lives in `report.history_query`."""
+"""`python -m postprocess.history_query ...`: a case's answer from the release history.
+
+The code lives in `report.history_query`."""
 
 from report.history_query import main
 

@@ -1,4 +1,6 @@
-"""`python -m postprocess.timestep ...`: the time-step advisor. The code lives in `analysis.timestep`."""
+"""`python -m postprocess.timestep ...`: the time-step advisor.
+
+The code lives in `analysis.timestep`."""
 
 from analysis.timestep import main
 
