@@ -29,7 +29,7 @@ SLURM_CONF_LOCAL := $(CURDIR)/.slurm/etc/slurm.conf
 # through the local cluster; .ci/run compares their summary.csv).
 CI_STUDY := cases=cases/steel.yaml 'K_grid=[0.01,0.1,0.2]'
 
-# The study's log ends with its verdict and the report's path (postprocess.verdict_files).
+# The study's log ends with its verdict and the report's path (verdict.verdict_files).
 study: engines lammps-2025 kratos-10.4 yade-2025 venv
 	@$(VENV)/bin/snakemake -j$(JOBS) all; status=$$?; echo; $(PY) -m postprocess.verdict_files results; exit $$status
 

@@ -171,9 +171,9 @@ VERDICT_RULES = ("gate", "case_gate", "compare_gate")
 
 onerror:
     # A job that failed (SLURM killed it at its time or memory limit, it was cancelled, its
-    # script crashed) leaves no verdict of its own: write the FAIL naming it (postprocess.failed_jobs).
+    # script crashed) leaves no verdict of its own: write the FAIL naming it (verdict.failed_jobs).
     # An interruption (Ctrl-C) is no FAIL: it names the jobs and the command that continues.
-    from postprocess.failed_jobs import continue_command, record_failed_jobs
+    from verdict.failed_jobs import continue_command, record_failed_jobs
 
     _continue = continue_command(sys.argv)
     _lost = record_failed_jobs(log, "results", {r.name: [str(o) for o in r.output] for r in workflow.rules},

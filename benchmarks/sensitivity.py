@@ -6,8 +6,8 @@
 Steel on a plane at V = 1 m/s, eta set for each K (K = 0: kn alone; the damping has nothing to
 act on). Each trial runs the gated ladder of the viscoelastic law (tail kept: criteria x0 and F0)
 with the parameter scaled by (1 + s) in the input LAMMPS is given (`engines.lammps` deck
-overrides), extrapolates it like the study (`postprocess.extrapolation`) and asks the gate
-(`postprocess.gate.judge`, the default tolerance 1e-6) whether T, A and eps all pass. s is
+overrides), extrapolates it like the study (`analysis.extrapolation`) and asks the gate
+(`verdict.gate.judge`, the default tolerance 1e-6) whether T, A and eps all pass. s is
 bisected in log between 1e-8 and 1e-3; all the trials of one bisection step run in one LAMMPS
 process. Printed per K and parameter:
 
@@ -33,10 +33,10 @@ from engines.lammps import TANGENTIAL, run_lammps
 from engines.plan import plan_at_velocity, rungs_of
 from engines.script_engine import number
 from records.collision_metrics import collision_metrics
-from postprocess.comparison import comparison_rows
+from analysis.comparison import comparison_rows
 from records.dump_file import read_dump
-from postprocess.extrapolation import extrapolated_rows
-from postprocess.gate import GATED_QUANTITIES, judge
+from analysis.extrapolation import extrapolated_rows
+from verdict.gate import GATED_QUANTITIES, judge
 
 ROOT = Path(__file__).resolve().parents[1]
 TOLERANCE = 1e-6

@@ -4,22 +4,22 @@ The kit gates a user's dumps exactly as the study gates its engine builds: the s
 (`comparison_rows`, as workflow/scripts/case_summary.py makes them), the same extrapolation to
 dt -> 0 with resolution (`extrapolated_rows`), the same checks, verdict and tolerances
 (`gate_checks`, `verdict_of`), the same files (`write_verdict_files`) and report (`write_report`).
-Every import of `postprocess` by `conformance` is here (the rest of the package imports from this
+Every import of the analysis, verdict and report layers by `conformance` is here (the rest of the package imports from this
 module), so that moving the post-processing's modules changes this file alone.
 """
 
-from postprocess.comparison import comparison_rows
-from postprocess.extrapolation import extrapolated_rows
-from postprocess.gate import check_name, gate_checks, verdict_of, write_verdict_files
-from postprocess.map_reference import map_errors
-from postprocess.report import ReportInputs, write_report
-from postprocess.verdict_files import tolerance_problems
+from analysis.comparison import comparison_rows
+from analysis.extrapolation import extrapolated_rows
+from verdict.gate import check_name, gate_checks, verdict_of, write_verdict_files
+from analysis.map_reference import map_errors
+from report.report import ReportInputs, write_report
+from verdict.verdict_files import tolerance_problems
 
 
 def write_report_without_plots(inputs, out_dir) -> None:
     """`write_report` with its figures left undrawn (report.md and report.html as they are, their
     image links dangling): `gate --no-plots`, where matplotlib's seconds are not wanted (CI, tests)."""
-    import postprocess.report as report
+    import report.report as report
 
     drawing = report.start_drawing
     report.start_drawing = lambda figures, workers=1: (lambda: None)

@@ -8,5 +8,6 @@
 - `files`: the one sha256 and the one atomic write both sides use.
 
 The bottom layer of the study's own packages after the physics: reference -> contact_model ->
-records -> engines -> postprocess, calibration -> workflow (tests/test_layers.py holds it).
+records -> engines -> analysis, calibration -> verdict -> report -> workflow (tests/test_layers.py
+holds it).
 """

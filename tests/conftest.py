@@ -1,4 +1,4 @@
-"""Every Snakemake the tests start imports this checkout's packages (engines/, postprocess/, ...),
+"""Every Snakemake the tests start imports this checkout's packages (engines/, analysis/, ...),
 also from the copied projects in tmp folders, which hold only the workflow: put the project first
 on PYTHONPATH, ahead of whatever `pip install -e` the venv points at.
 

@@ -18,9 +18,9 @@ import pytest
 import yaml
 
 from engines.ladder import START_PHASE
-from postprocess.comparison import comparison_rows
-from postprocess.extrapolation import extrapolated_rows
-from postprocess.gate import gate_checks
+from analysis.comparison import comparison_rows
+from analysis.extrapolation import extrapolated_rows
+from verdict.gate import gate_checks
 from records.collision_metrics import collision_metrics, quantities_of
 from records.dump_file import read_dump, write_dump
 from records.quantities import QUANTITIES, Quantity, gated_quantities, reference_values
@@ -104,15 +104,15 @@ def quantity_recipe_problems(q: Quantity) -> list[str]:
                   f"{name} from the dump ({got:.6g}) differs from its reference ({ref:.6g}) under {criterion}")
     # 4. The comparison's err_ column, and 5. the extrapolation's limit of it.
     rungs = ladder_rows()
-    check("postprocess/comparison.py", f"err_{name}" in rungs.columns and rungs[f"err_{name}"].map(finite).all(),
+    check("analysis/comparison.py", f"err_{name}" in rungs.columns and rungs[f"err_{name}"].map(finite).all(),
           f"the summary rows have no finite err_{name}")
     try:
         limits = extrapolated_rows(rungs)
         limit_ok = f"err_{name}" in limits.columns and limits[f"err_{name}"].map(finite).all()
     except Exception as e:  # noqa: BLE001
         limits, limit_ok = pd.DataFrame(), False
-        problems.append(f"postprocess/extrapolation.py: {type(e).__name__}: {e}")
-    check("postprocess/extrapolation.py", limit_ok, f"the limit rows (dt -> 0) have no finite err_{name}")
+        problems.append(f"analysis/extrapolation.py: {type(e).__name__}: {e}")
+    check("analysis/extrapolation.py", limit_ok, f"the limit rows (dt -> 0) have no finite err_{name}")
     # 6. The gate, for a gated quantity: its tolerance and a check of it.
     if q.gated:
         check("config/config.yaml", name in TOLERANCE, f"tolerance: has no {name}")
@@ -125,7 +125,7 @@ def quantity_recipe_problems(q: Quantity) -> list[str]:
             what = f"no passing check of {name} for an exact run ({len(judged)} checks)"
         except Exception as e:  # noqa: BLE001
             gate_ok, what = False, f"judging {name} raised {type(e).__name__}: {e}"
-        check("postprocess/gate.py", gate_ok, what)
+        check("verdict/gate.py", gate_ok, what)
     # 7. The docs name it (by its name or its symbol).
     words = {w for w in (name, q.symbol) if w}
     check("docs/physics.md or docs/verdict.md",
@@ -146,8 +146,8 @@ def test_a_quantity_added_to_the_table_alone_fails_at_every_place(monkeypatch):
     places = {p.split(": ", 1)[0] for p in problems}
     assert places >= {"records/quantities.py (extract)", "records/quantities.py (reference)",
                       "records/collision_metrics.py (quantities_of)", "records/quantities.py (reference_values)",
-                      "postprocess/comparison.py", "postprocess/extrapolation.py", "config/config.yaml",
-                      "postprocess/gate.py", "docs/physics.md or docs/verdict.md"}, problems
+                      "analysis/comparison.py", "analysis/extrapolation.py", "config/config.yaml",
+                      "verdict/gate.py", "docs/physics.md or docs/verdict.md"}, problems
     assert all("dummy" in p for p in problems), problems
 
 
@@ -161,7 +161,7 @@ def test_a_quantity_added_with_its_extraction_and_reference_gets_through(monkeyp
     monkeypatch.setitem(QUANTITIES, "half_delta", half)
     # Without its tolerance the gate cannot judge it; without a line of the docs no reader knows it.
     assert [p.split(": ", 1)[0] for p in quantity_recipe_problems(half)] == [
-        "config/config.yaml", "postprocess/gate.py", "docs/physics.md or docs/verdict.md"]
+        "config/config.yaml", "verdict/gate.py", "docs/physics.md or docs/verdict.md"]
     monkeypatch.setitem(TOLERANCE, "half_delta", 1e-6)
     monkeypatch.setitem(DOCS, "physics.md", DOCS["physics.md"] + "\nhalf_delta: half the maximum overlap\n")
     assert quantity_recipe_problems(half) == []

@@ -19,9 +19,9 @@ from engines import EngineMissing, RunSpec, run_sweep
 from engines.builds import Build, BuildError, check_build, load_builds
 from engines.codes import CODES
 from engines.lammps import run_regression_cases, wall_modulus_regression
-from postprocess.compare import compare_checks, pair_builds
-from postprocess.gate import junit_xml, regression_checks, verdict_of
-from postprocess.regressions import regression_table
+from verdict.compare import compare_checks, pair_builds
+from verdict.gate import junit_xml, regression_checks, verdict_of
+from analysis.regressions import regression_table
 from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]

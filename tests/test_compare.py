@@ -6,7 +6,7 @@ import xml.etree.ElementTree as ET
 import pandas as pd
 import pytest
 
-from postprocess.compare import CompareError, compare_checks, load_checks, main
+from verdict.compare import CompareError, compare_checks, load_checks, main
 
 GROUP = {"engine": "lammps", "law": "viscoelastic", "geometry": "sphere-sphere", "criterion": "x0"}
 

@@ -7,7 +7,7 @@ import pytest
 
 from contact_model import Body, ContactPair
 from records.collision_metrics import CollisionMetrics
-from postprocess.comparison import comparison_rows, hertz_Q, measured
+from analysis.comparison import comparison_rows, hertz_Q, measured
 from reference import solve_collision
 
 

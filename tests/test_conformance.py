@@ -348,9 +348,9 @@ def test_a_keyword_round_trip_passes_and_reports_its_promise(tmp_path, monkeypat
     assert all(abs(p["eps_dumps_dt0"] - p["eps_its_equation"]) < 1e-6 for p in promise)
 
 
-def test_postprocess_is_imported_in_one_module_of_the_kit():
-    """conformance/study.py re-exports what the kit takes from postprocess/: a move of its modules changes
-    that file alone."""
+def test_the_study_layers_are_imported_in_one_module_of_the_kit():
+    """conformance/study.py re-exports what the kit takes from analysis/, verdict/ and report/: a move of
+    their modules changes that file alone."""
     import ast
 
     importers = set()
@@ -358,6 +358,6 @@ def test_postprocess_is_imported_in_one_module_of_the_kit():
         for node in ast.walk(ast.parse(path.read_text())):
             names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
                      [node.module] if isinstance(node, ast.ImportFrom) and node.module else [])
-            if any(n.split(".")[0] == "postprocess" for n in names):
+            if any(n.split(".")[0] in ("analysis", "verdict", "report", "postprocess") for n in names):
                 importers.add(path.name)
     assert importers == {"study.py"}

@@ -9,7 +9,7 @@ import pytest
 
 from contact_model import load_case
 from engines.ladder import observed_order
-from postprocess.convergence import build_spread, convergence_table, largest_dt, largest_dt_table
+from analysis.convergence import build_spread, convergence_table, largest_dt, largest_dt_table
 
 FACTORS = np.array([10, 20, 50, 100, 250, 500, 1000, 2000])
 

@@ -212,7 +212,7 @@ def test_time_step_convergence_runs_hertz_alone_at_second_order(tmp_path):
     T_e/1000; asserted 1.9 .. 2.1)."""
     from contact_model import load_case
     from engines.plan import plan_at_velocity
-    from postprocess.convergence import observed_order
+    from analysis.convergence import observed_order
 
     case = load_case(Path(__file__).resolve().parents[1] / "cases" / "steel.yaml")
     runs = plan_at_velocity(case, "kratos", [0.0, 0.1, 0.5], [250, 500, 1000], 1.0, "convergence",

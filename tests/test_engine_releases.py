@@ -15,9 +15,9 @@ from engine_cases import VELOCITY, dump_metrics, missing, steel_pair
 from engines import RunSpec, run_sweep
 from engines.builds import check_build, load_builds
 from engines.lammps import run_regression_cases
-from postprocess.gate import regression_checks
-from postprocess.map_reference import map_errors
-from postprocess.regressions import regression_table
+from verdict.gate import regression_checks
+from analysis.map_reference import map_errors
+from analysis.regressions import regression_table
 from records.dump_file import read_dump
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,8 +1,8 @@
-"""The time-step advisor's map (reference.engine_map, postprocess.timestep) stands in for every
+"""The time-step advisor's map (reference.engine_map, analysis.timestep) stands in for every
 build at the steps users run: each build runs each law it has at dt = 0.05, 0.1, 0.2 and 0.3 of the
 Rayleigh time, the contact starting at two phases of the step grid, and its T, A and eps equal the
 map's replay at that dt and phase to the rounding of positions stored at the radius's magnitude
-(postprocess.map_reference), at every one. (The ladders' runs are compared at every rung of the
+(analysis.map_reference), at every one. (The ladders' runs are compared at every rung of the
 study the same way: summary.csv `map_err_*`.)"""
 
 import shutil
@@ -18,7 +18,7 @@ from engine_cases import VELOCITY, dump_metrics, missing, steel_pair
 from engines import RunSpec, run_sweep
 from engines.builds import check_build, load_builds
 from engines.codes import CODES, keyword_of, law_unavailable
-from postprocess.map_reference import map_errors
+from analysis.map_reference import map_errors
 from records.dump_file import read_dump
 
 ROOT = Path(__file__).resolve().parents[1]

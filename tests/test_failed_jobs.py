@@ -1,4 +1,4 @@
-"""The verdict of a run that lost jobs (postprocess.failed_jobs): Snakemake's log read, SLURM's
+"""The verdict of a run that lost jobs (verdict.failed_jobs): Snakemake's log read, SLURM's
 account put into words, and the FAIL merged into the verdict files a report already wrote.
 End to end: tests/test_slurm.py (SLURM's kills and a cancel) and tests/test_study_failures.py (a
 local job that failed)."""
@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 
 from engines import run_sweep
 from engines.builds import Build
-from postprocess.failed_jobs import parse_failed_jobs, record_failed_jobs, slurm_reason, wildcards_of
+from verdict.failed_jobs import parse_failed_jobs, record_failed_jobs, slurm_reason, wildcards_of
 
 LOG = """\
 [Wed Nov 25 13:48:24 2026]

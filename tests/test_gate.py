@@ -13,9 +13,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from postprocess.gate import CHECK_COLUMNS, gate_checks, junit_xml, verdict_of, write_junit, write_verdict
-from postprocess.verdict_files import VERDICT_FILES, mark_stale
-from postprocess.report import ReportInputs, write_report
+from verdict.gate import CHECK_COLUMNS, gate_checks, junit_xml, verdict_of, write_junit, write_verdict
+from verdict.verdict_files import VERDICT_FILES, mark_stale
+from report.report import ReportInputs, write_report
 
 TOL = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
 RUNGS = (250, 500, 1000, 2000)
@@ -77,7 +77,7 @@ def test_worst_ladder_decides_and_the_boundary_counts_the_resolution():
 def test_an_error_within_the_tolerance_but_not_its_resolution_is_not_a_pass():
     """|e| <= tol < |e| + r: the study cannot tell, so the check fails as not resolved; with a
     smaller resolution the same error passes, and |e| - r > tol fails as resolved."""
-    from postprocess.gate import judge
+    from verdict.gate import judge
 
     assert judge(8e-7, 5e-7, 1e-6) == "unresolved" and judge(1.2e-6, 5e-7, 1e-6) == "unresolved"
     assert judge(8e-7, 1e-7, 1e-6) == "pass" and judge(1.2e-6, 1e-7, 1e-6) == "fail"
@@ -94,7 +94,7 @@ def test_an_error_within_the_tolerance_but_not_its_resolution_is_not_a_pass():
 def test_the_verdict_line_of_a_regression_check_says_what_it_compares():
     """5.229e-07 with resolution 5.1e-07 against 1e-06 is not resolved: its line must not read
     '5.229e-07 > 1e-06' (false), but '|error| + resolution = 1.033e-06 > 1e-06'."""
-    from postprocess.gate import regression_checks
+    from verdict.gate import regression_checks
 
     reported = regression_checks(pd.DataFrame(regression_rows("lammps-z", 5.229e-7, res=5.1e-7)), TOL)
     t = reported[reported.quantity == "T"].iloc[0]
@@ -176,7 +176,7 @@ def test_junit_has_one_testcase_per_check_and_a_failure_for_each_failing_one(tmp
 
 def test_report_says_fail_first_and_names_every_failing_check(tmp_path):
     from test_comparison import exact_metrics, meta_for
-    from postprocess.comparison import comparison_rows
+    from analysis.comparison import comparison_rows
 
     meta = meta_for(K=0.1)
     table = pd.DataFrame([{**r, "run": "a", "build": "lammps", "engine": "lammps", "err_T": 1e-2}
@@ -244,7 +244,7 @@ def test_mark_stale_of_a_folder_with_no_verdict_writes_nothing(tmp_path):
 
 
 def regression_rows(build, user_err_T, control_err_T=2e-10, problem="", res=1e-8):
-    """A regression case's table (postprocess.regressions): the user's ladder and the control's,
+    """A regression case's table (analysis.regressions): the user's ladder and the control's,
     their limits with a resolution of `res`."""
     base = {"build": build, "case": "wall-modulus", "geometry": "sphere-plane", "K": 0.0,
             **{f"resolution_{q}": res for q in ("T", "A", "eps")}}
@@ -255,7 +255,7 @@ def regression_rows(build, user_err_T, control_err_T=2e-10, problem="", res=1e-8
 
 
 def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the_verdict():
-    from postprocess.gate import regression_checks
+    from verdict.gate import regression_checks
 
     model = gate_checks(pd.DataFrame(rows("a")), plan(("a", "lammps", "viscoelastic", "sphere-sphere")),
                         no_failures(), TOL)
@@ -283,7 +283,7 @@ def test_regression_checks_are_reported_in_junit_as_skipped_and_never_decide_the
 
 
 def test_the_line_that_ends_the_study_log_gives_the_verdict_and_the_report(tmp_path):
-    from postprocess.verdict_files import verdict_line
+    from verdict.verdict_files import verdict_line
 
     assert verdict_line(tmp_path).startswith(f"no verdict: {tmp_path / 'verdict.json'} was not written")
     (tmp_path / "report.html").write_text("<html></html>")
@@ -325,7 +325,7 @@ def test_jobs_that_start_together_mark_the_verdict_stale_at_once_without_a_colli
 def test_a_tolerance_of_1_or_more_is_no_relative_tolerance_and_one_above_1e_2_is_warned():
     """tolerance_problems names the key of every value outside (0, 1); verdict_of refuses them,
     and states what a verdict was judged against, with a warning above 1e-2."""
-    from postprocess.verdict_files import LOOSE_TOLERANCE, tolerance_problems, tolerance_warnings
+    from verdict.verdict_files import LOOSE_TOLERANCE, tolerance_problems, tolerance_warnings
 
     assert tolerance_problems(TOL) == [] and tolerance_warnings(TOL) == []
     assert tolerance_problems({"T": 10, "A": 1.0, "eps": 0}) == [
@@ -347,7 +347,7 @@ def test_a_tolerance_of_1_or_more_is_no_relative_tolerance_and_one_above_1e_2_is
 
 
 def test_gate_txt_and_the_verdict_line_state_the_tolerances_and_the_warnings(tmp_path):
-    from postprocess.verdict_files import gate_text, verdict_line
+    from verdict.verdict_files import gate_text, verdict_line
 
     v = {"verdict": "PASS", "pass": True, "checked": 30, "failed": 0, "failures": [],
          "tolerance": {"T": 0.05, "A": 1e-6, "eps": 1e-6},
@@ -365,7 +365,7 @@ def test_gate_txt_and_the_verdict_line_state_the_tolerances_and_the_warnings(tmp
 def test_the_verdict_files_are_written_from_one_place_verdict_json_last(tmp_path):
     """write_verdict_files: checks.csv, junit.xml, the report, then verdict.json; a report that fails
     leaves no verdict.json (and no temporary file)."""
-    from postprocess.gate import write_verdict_files
+    from verdict.gate import write_verdict_files
 
     checks = gate_checks(pd.DataFrame(rows("a")), plan(("a", "lammps", "viscoelastic", "sphere-sphere")),
                          no_failures(), TOL)

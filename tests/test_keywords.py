@@ -92,7 +92,7 @@ def test_a_k_beyond_the_reference_solvers_range_is_a_cell_that_says_so_not_a_cra
 
     import yaml
 
-    from postprocess.keyword_promise import over_velocity_cell, promise_over_velocity
+    from analysis.keyword_promise import over_velocity_cell, promise_over_velocity
     from reference import solve_collision
 
     grid = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())

@@ -1,4 +1,4 @@
-"""The time-step ladders (engines/ladder.py, postprocess/extrapolation.py), measured on the
+"""The time-step ladders (engines/ladder.py, analysis/extrapolation.py), measured on the
 engines' own discrete map (reference/engine_map.py) rather than taken on trust:
 
 - the powers of the error expansion, from the orders of successive differences over eight
@@ -19,8 +19,8 @@ import pytest
 from engines.ladder import (DISSIPATIVE_POWERS, ELASTIC_POWERS, START_PHASE, aligned_time_step, extrapolate,
                             phase_offset, powers_of, richardson_weights, rung_factor)
 from records.collision_metrics import collision_metrics
-from postprocess.comparison import comparison_rows
-from postprocess.extrapolation import extrapolated_rows
+from analysis.comparison import comparison_rows
+from analysis.extrapolation import extrapolated_rows
 from reference import HERTZ_TAU, solve_collision
 from reference.engine_map import replay
 
@@ -128,7 +128,7 @@ def test_the_estimate_holds_on_random_series_as_often_as_documented():
 
 
 def ladder_rows(K, factors, clipped=False, shifted=None, shift=0.25):
-    """summary.csv rows (postprocess.comparison) of a ladder of the map at K, its rung
+    """summary.csv rows (analysis.comparison) of a ladder of the map at K, its rung
     `shifted` (an index, or None) starting `shift` of a step off the planned phase."""
     law = "viscoelastic_clipped" if clipped else ("elastic" if K == 0 else "viscoelastic")
     represents = ["F0"] if clipped else ["x0"] if K == 0 else ["x0", "F0"]
@@ -211,11 +211,11 @@ def test_aligned_time_step_puts_a_whole_number_of_steps_into_the_contact():
 
 @pytest.mark.parametrize("law,K", [("viscoelastic", 0.3), ("viscoelastic_clipped", 2.0), ("elastic", 0.0)])
 def test_the_maps_own_record_in_physical_units_is_on_the_map(law, K):
-    """postprocess.map_reference replays the map at a run's dt from its dump header: the map's
+    """analysis.map_reference replays the map at a run's dt from its dump header: the map's
     own record, put in a run's physical units (delta_e = 2e-6 m, V = 0.5 m/s), differs from it by
     rounding alone (1e-13); replayed as an engine keyword's run, its force is another and the
     differences are the laws' (a keyword's map: tests/test_engine_timestep.py)."""
-    from postprocess.map_reference import map_errors
+    from analysis.map_reference import map_errors
 
     delta_e, V = 2e-6, 0.5
     clipped = law == "viscoelastic_clipped"

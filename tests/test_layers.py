@@ -1,10 +1,11 @@
 """Every import between the study's packages points down its layers:
 
-    reference -> contact_model -> records -> engines -> postprocess, calibration -> workflow, benchmarks,
-    conformance
+    reference -> contact_model -> records -> engines -> analysis, calibration -> verdict -> report
+              -> workflow, benchmarks, postprocess, conformance
 
-(a package imports only itself and the packages of lower layers; postprocess and calibration,
-side by side, do not import each other). Read from the source with `ast`, so that an import
+(a package imports only itself and the packages of lower layers; packages side by side do not
+import each other: analysis and calibration; postprocess holds only the command lines, each
+calling the `main` of a module below it). Read from the source with `ast`, so that an import
 inside a function or behind `if TYPE_CHECKING` counts too.
 """
 
@@ -14,8 +15,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-LAYERS = [("reference",), ("contact_model",), ("records",), ("engines",), ("postprocess", "calibration"),
-          ("workflow", "benchmarks", "conformance")]
+LAYERS = [("reference",), ("contact_model",), ("records",), ("engines",), ("analysis", "calibration"), ("verdict",),
+          ("report",), ("workflow", "benchmarks", "postprocess", "conformance")]
 LAYER_OF = {package: i for i, packages in enumerate(LAYERS) for package in packages}
 #: Where each package's modules are; workflow/scripts import as top-level modules (`common`).
 SOURCES = {package: ROOT / package for package in LAYER_OF}
@@ -59,5 +60,5 @@ def test_imports_point_down_the_layers(package, path):
 
 def test_the_check_sees_an_upward_import(tmp_path):
     module = tmp_path / "m.py"
-    module.write_text("def f():\n    from postprocess.gate import judge\n    import records.files\n")
-    assert project_imports(module) == [(2, "postprocess"), (3, "records")]
+    module.write_text("def f():\n    from verdict.gate import judge\n    import records.files\n")
+    assert project_imports(module) == [(2, "verdict"), (3, "records")]

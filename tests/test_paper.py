@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from postprocess.energy import energy_partition
-from postprocess.paper.claims import claims, hertz_Q_constants
-from postprocess.paper.fracture import DEFINITIONS, fracture_velocity_ratios, pressure_ratio
-from postprocess.paper.table1 import paper_table_1, recompute_table_1, rule_prefactor
+from analysis.energy import energy_partition
+from report.paper.claims import claims, hertz_Q_constants
+from report.paper.fracture import DEFINITIONS, fracture_velocity_ratios, pressure_ratio
+from report.paper.table1 import paper_table_1, recompute_table_1, rule_prefactor
 from reference import solve_collision
 from test_collision_metrics import sampled_reference
 
@@ -75,7 +75,7 @@ def test_figure_3_draws_a_study_of_more_cases_than_it_has_markers(tmp_path):
     the markers cycle (it failed with a KeyError at the eighth case)."""
     import pandas as pd
 
-    from postprocess.paper.figures import figure_3
+    from report.paper.figures import figure_3
 
     rows = [{"case": f"case{i}", "build": "b", "law": "viscoelastic", "criterion": c, "dt": 0.0, "K": 0.1,
              "eps": solve_collision(0.1)[f"eps_{c}"]} for i in range(10) for c in ("x0", "F0")]

@@ -17,9 +17,9 @@ import pytest
 from contact_model import Body, ContactPair
 from contact_model.keywords import KEYWORDS, keyword_reference, promised_restitution
 from engines.codes import keyword_of
-from postprocess.comparison import comparison_rows
-from postprocess.quantities import readable
-from postprocess.report import PHYSICAL, _physical_section
+from analysis.comparison import comparison_rows
+from records.quantities import readable
+from report.report import PHYSICAL, _physical_section
 from records.collision_metrics import CollisionMetrics
 from reference import HERTZ_TAU, solve_collision
 
@@ -116,7 +116,7 @@ BUILDS = {"liggghts-3.8": ("liggghts", ("viscoelastic", "default")),
 
 
 def synthetic_limits(told: float, V: float) -> pd.DataFrame:
-    """Ladder limits of every build of `BUILDS`: summary rows (`postprocess.comparison.comparison_rows`)
+    """Ladder limits of every build of `BUILDS`: summary rows (`analysis.comparison.comparison_rows`)
     of engine runs that deliver their law's reference (a keyword's own equation told `told`, the
     viscoelastic law at K = 0.3) times (1 + a deviation of their own), as dt = 0 rows."""
     sphere = Body(0.005, 7800.0)

@@ -1,4 +1,4 @@
-"""postprocess.quantities: one table of the quantities, each with what a reader and the gate need,
+"""records.quantities: one table of the quantities, each with what a reader and the gate need,
 and the Hertz closed forms of the elastic collision in SI through `characteristics`."""
 
 import math
@@ -7,7 +7,7 @@ import pytest
 import yaml
 from pathlib import Path
 
-from postprocess.quantities import GATED_QUANTITIES, QUANTITIES, characteristics, readable
+from records.quantities import GATED_QUANTITIES, QUANTITIES, characteristics, readable
 from reference import solve_collision
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -45,8 +45,8 @@ def test_a_case_report_opens_with_its_collisions_in_physical_units():
     import pandas as pd
     from test_comparison import exact_metrics, meta_for
 
-    from postprocess.comparison import comparison_rows
-    from postprocess.report import HERTZ_CONSTANT, _physical_section
+    from analysis.comparison import comparison_rows
+    from report.report import HERTZ_CONSTANT, _physical_section
 
     assert HERTZ_CONSTANT == pytest.approx(2.8683, abs=5e-5)
     rows = []

@@ -66,7 +66,7 @@ def test_the_readme_user_path_runs_as_written(tmp_path):
         assert out.returncode == 0, f"{command}\n{out.stdout[-3000:]}\n{out.stderr[-3000:]}"
         if "viscosity_for_k" in command:
             assert "mine (cases/mine.yaml): the viscosity eta giving each K" in out.stdout
-        if "postprocess.timestep" in command:
+        if "analysis.timestep" in command:
             assert "sphere-plane, law viscoelastic (criterion x0), V = 1 m/s" in out.stdout
             assert "error at your dt: min / median / max over the start phases" in out.stdout
         if "viscosity_for_restitution" in command:

@@ -1,4 +1,4 @@
-"""The report's matrix of the gated checks (postprocess.report_matrix): one cell per build x law x
+"""The report's matrix of the gated checks (report.report_matrix): one cell per build x law x
 geometry x criterion, worst |error| over T, A, eps, pass only when all three pass, n/a cells with
 their code's reason; Markdown and HTML renderings; distinct plot styles per build.
 
@@ -14,9 +14,9 @@ import pandas as pd
 import pytest
 from test_comparison import exact_metrics, meta_for
 
-from postprocess.comparison import comparison_rows
-from postprocess.gate import gate_checks, verdict_of
-from postprocess.report_matrix import (cell_text, error_matrix, matrix_cells, matrix_columns,
+from analysis.comparison import comparison_rows
+from verdict.gate import gate_checks, verdict_of
+from report.report_matrix import (cell_text, error_matrix, matrix_cells, matrix_columns,
                                        matrix_html, matrix_markdown)
 
 TOL = {"T": 5e-4, "A": 5e-4, "eps": 5e-4}
@@ -217,7 +217,7 @@ def test_the_keywords_section_gives_each_keywords_own_equation_its_promise_and_t
     the promise error, the engine's eps from its own-equation error, the viscoelastic model's eps,
     and the keyword's known defect."""
     from contact_model.keywords import promised_restitution
-    from postprocess.report import ReportInputs, write_report
+    from report.report import ReportInputs, write_report
     from reference import solve_collision
 
     rows = summary_rows("lammps-2021-def", "lammps-2021", "default", "sphere-sphere", 0.1, eps=2e-9)
@@ -240,7 +240,7 @@ def test_the_keywords_section_gives_each_keywords_own_equation_its_promise_and_t
 
 
 def test_report_shows_the_matrix_and_links_the_checks(study, tmp_path):
-    from postprocess.report import ReportInputs, write_report
+    from report.report import ReportInputs, write_report
 
     table, checks, not_available = study
     verdict = verdict_of(checks, "0" * 64, TOL)
@@ -266,7 +266,7 @@ def test_report_drawn_in_two_processes_is_the_same_report(study, tmp_path):
     """workers=2 (the report rule's two threads) draws the plots in forked processes while the
     text is written: the same report.md and report.html (but the minute it was generated), every
     plot; a plot that fails still fails the report."""
-    from postprocess import report
+    from report import report
 
     table, checks, not_available = study
     verdict = verdict_of(checks, "0" * 64, TOL)
@@ -279,7 +279,7 @@ def test_report_drawn_in_two_processes_is_the_same_report(study, tmp_path):
                           for name in ("report.md", "report.html")]
         assert sorted(p.name for p in (out / "plots").iterdir()) == ["errors.png", "ratios_F0.png", "ratios_x0.png"]
     assert texts[1] == texts[2]
-    from postprocess.report_plots import plot_errors, start_drawing
+    from report.report_plots import plot_errors, start_drawing
 
     wait = start_drawing([(plot_errors, (table, TOL, tmp_path / "e.png", BUILDS)),
                           (plot_errors, (table, {}, tmp_path / "f.png", BUILDS))], workers=2)
@@ -288,7 +288,7 @@ def test_report_drawn_in_two_processes_is_the_same_report(study, tmp_path):
 
 
 def test_every_build_gets_its_own_marker_and_colour_in_config_order():
-    from postprocess.report_plots import build_styles
+    from report.report_plots import build_styles
 
     builds = ["liggghts-3.8", "yade-2023", "lammps-2021", "lammps-2025", "esys-2.3.5", "kratos-10.4"]
     styles = build_styles(builds)
@@ -308,7 +308,7 @@ def test_report_in_a_browser(study, tmp_path):
     browser's DOM holds the matrix with one row per build."""
     import shutil
 
-    from postprocess.report import ReportInputs, write_report
+    from report.report import ReportInputs, write_report
 
     import processes
     from engine_cases import missing
@@ -338,7 +338,7 @@ def test_a_cell_shows_its_extrapolated_error_and_the_resolution_it_was_judged_at
     """Ladder limits (dt = 0) with their resolutions: '✔ 4.1e-09 (res 1.6e-07)' where the check
     passes with its resolution added, '✘ 8.0e-07 (res 5.0e-07; eps)' where the error is within
     the tolerance but not resolved at it; the hover text says the resolution too."""
-    from postprocess.report_matrix import cell_title
+    from report.report_matrix import cell_title
 
     tol = {"T": 1e-6, "A": 1e-6, "eps": 1e-6}
     rows = []

@@ -212,7 +212,7 @@ def test_a_ladder_whose_contact_starts_late_at_one_rung_is_caught(study):
 
 def test_the_discrete_reference_sees_a_defect_at_every_rung(study):
     """Beside the gate, each rung against the engines' map replayed at its own dt
-    (postprocess.map_reference): the clean builds reproduce it to 1e-7 at every rung of every case;
+    (analysis.map_reference): the clean builds reproduce it to 1e-7 at every rung of every case;
     LAMMPS with kn x (1 + 1e-5) is off by its -4e-6 in T at every rung, no extrapolation needed."""
     _, _, summary, _ = study
     rungs = summary[(summary.dt > 0) & summary.law.isin(["viscoelastic", "viscoelastic_clipped", "elastic"])]

@@ -1,10 +1,10 @@
-"""postprocess.restitution_of_velocity: each damping form fitted to eps(V) recovers the coefficient
+"""analysis.restitution_of_velocity: each damping form fitted to eps(V) recovers the coefficient
 of measurements made by its own law, and only a form with the measured trend is said to follow."""
 
 import numpy as np
 import pytest
 
-from postprocess.restitution_of_velocity import fit_forms, form_restitution
+from analysis.restitution_of_velocity import fit_forms, form_restitution
 
 V = np.array([0.5, 1.0, 1.64, 2.04, 2.83, 3.51, 4.43, 5.47, 6.01])
 

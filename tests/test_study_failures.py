@@ -442,7 +442,7 @@ def test_compare_target_names_the_regressions_of_a_faulty_build_and_the_reverse_
     assert regressions.change.min() > 1e5  # ~1e-9 -> 1e-2
     assert not (project / "results" / "compare" / "gate.txt").exists()
     # The other way round (baseline: the faulty build) the same checks are fixes, and it passes.
-    back = processes.run([sys.executable, "-m", "postprocess.compare", str(project / "results"),
+    back = processes.run([sys.executable, "-m", "verdict.compare", str(project / "results"),
                            str(baseline / "results"), "--out", str(tmp_path / "back")], cwd=ROOT,
                          capture_output=True, text=True, timeout=120)
     assert back.returncode == 0 and "0 regressions, 4 fixes" in back.stdout

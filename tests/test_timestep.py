@@ -13,14 +13,14 @@ import pytest
 
 import processes
 from contact_model import load_case
-from postprocess import timestep
+from analysis import timestep
 from reference import solve_collision
 
 ROOT = Path(__file__).resolve().parents[1]
 STEEL = str(ROOT / "cases" / "steel.yaml")
 KEYS = {"law", "geometry", "quantity", "tolerance", "dt_max_s", "dt_max_over_T_R", "dt_max_over_T_e", "err_min",
         "err_median", "err_max", "note"}
-COMMAND = [sys.executable, "-m", "postprocess.timestep"]
+COMMAND = [sys.executable, "-m", "analysis.timestep"]
 
 
 def advisor(*args) -> subprocess.CompletedProcess:

@@ -15,7 +15,7 @@ import pytest
 
 from contact_model import load_case
 from contact_model.keywords import KEYWORDS, lammps_tsuji_alpha, promised_restitution
-from postprocess import timestep
+from analysis import timestep
 from records.collision_metrics import collision_metrics
 from reference.engine_map import replay
 

@@ -42,7 +42,7 @@ rule convergence_runs:
 
 rule largest_steps:
     """The largest dt / T_R holding 1e-2, 1e-3 and 1e-4 at every start phase, on the engines' map
-    (postprocess.report_timestep): the viscoelastic law over the K grid, each code's keyword over e."""
+    (analysis.timestep_maps, drawn by report.report_timestep): the viscoelastic law over the K grid, each code's keyword over e."""
     input: case=config["convergence"]["case"]
     output:
         csv="results/convergence/largest_dt_over_T_R.csv",

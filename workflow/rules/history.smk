@@ -1,12 +1,12 @@
 # Every release of each code against the study's reduced checks and the defects it found
-# (snakemake -j2 history; results/history/, postprocess/history.py). Not part of `all`, and no
+# (snakemake -j2 history; results/history/, analysis/history.py). Not part of `all`, and no
 # verdict: a defect of a release is a finding about that release. PyPI releases are installed on
 # demand (engines.releases, as `make build <code>==<release>` does: a venv each); a release that cannot be installed is a row
 # naming the command, and the other releases still run. On the cluster (profiles/slurm) the install
 # and the runs of one release are one job (group `history`): SLURM's per-job cost once per release.
 
 HISTORY = config["history"]
-#: Where the history writes: config history.folder, results/history unless given (postprocess.history_query
+#: Where the history writes: config history.folder, results/history unless given (report.history_query
 #: gives each answer a folder of its own); its logs go to logs/ and the same path after results/.
 HISTORY_DIR = HISTORY.get("folder", "results/history")
 _HISTORY_SUB = HISTORY_DIR.removeprefix("results/")
@@ -84,7 +84,7 @@ rule history_install:
 
 
 rule history_runs:
-    """One release's checks (postprocess.history): the reduced cases' viscoelastic ladders, its
+    """One release's checks (analysis.history): the reduced cases' viscoelastic ladders, its
     restitution keywords' promise, and its code's regression cases; results/history/<release>.csv."""
     input:
         install=f"{HISTORY_DIR}/installs/{{release}}.json",

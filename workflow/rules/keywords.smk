@@ -1,6 +1,6 @@
 # The engines' restitution keywords told every e of config `keywords:` (snakemake -j2 keywords):
 # what each delivers at dt -> 0 against what it is told, beside what its own equation restitutes
-# (postprocess.keyword_promise; docs/keywords.md). Not part of `all`, and no verdict: the keywords'
+# (analysis.keyword_promise; docs/keywords.md). Not part of `all`, and no verdict: the keywords'
 # conformance is gated in the study itself (the law `default`).
 
 

@@ -1,6 +1,6 @@
 # The verdicts: of the study (report, JUnit XML, gate) and of one case (its own gate).
 
-from postprocess.verdict_files import tolerance_warnings  # noqa: E402
+from verdict.verdict_files import tolerance_warnings  # noqa: E402
 
 # A tolerance of 1 or more is refused by the config schema (config/config.schema.yaml, naming
 # tolerance.T); one above 1e-2 is allowed, and said here, in the checks' logs, verdict.json,
@@ -35,7 +35,7 @@ EXTRA_REPORT_INPUTS = {
 
 
 rule checks:
-    """The checks and the verdict: checks.csv, junit.xml, verdict.json (postprocess.gate). It
+    """The checks and the verdict: checks.csv, junit.xml, verdict.json (verdict.gate). It
     waits for every result the report shows (EXTRA_REPORT_INPUTS): each rule that makes one
     first withdraws the verdict files (common.start_rule), which must not happen after them."""
     input:
@@ -77,10 +77,10 @@ rule report:
     log: "logs/report.log"
     benchmark: "logs/benchmarks/report/all.tsv"
     params: builds={b: build_params(b) for b in BUILD_IDS}, ladder=config["ladder"]
-    # Its plots are drawn in two processes (postprocess.report_plots.start_drawing): it runs last,
+    # Its plots are drawn in two processes (report.report_plots.start_drawing): it runs last,
     # when every other job is done (only the gate waits for it).
     threads: 2
-    script: "../scripts/report.py"
+    script: "../scripts/study_report.py"
 
 
 rule gate:

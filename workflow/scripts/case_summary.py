@@ -1,7 +1,7 @@
 """Snakemake script: one case's dumps beside the reference and the paper's series (tidy CSV).
 
 One row per run and criterion, then one row per ladder and criterion with dt = 0: the rungs'
-errors extrapolated to dt -> 0, with their resolution (postprocess.extrapolation), which the
+errors extrapolated to dt -> 0, with their resolution (analysis.extrapolation), which the
 gate judges. Every dump is verified against the sha256 its engine job recorded; a changed,
 truncated or unreadable dump stops the rule naming the file. The `dump` column is relative to
 the results folder, so that summaries do not depend on where the project lives.
@@ -14,9 +14,9 @@ from pathlib import Path
 import pandas as pd
 
 from common import start_rule
-from postprocess.comparison import comparison_rows
-from postprocess.extrapolation import extrapolated_rows
-from postprocess.map_reference import map_errors
+from analysis.comparison import comparison_rows
+from analysis.extrapolation import extrapolated_rows
+from analysis.map_reference import map_errors
 from records.run_manifest import manifest_dumps
 
 log = start_rule(snakemake)

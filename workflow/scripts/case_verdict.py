@@ -1,13 +1,13 @@
 """Snakemake script: one case's checks, verdict and report (what `snakemake <case>` gates on).
 
-The same checks as the study's (postprocess.gate), over this case's plan, summary and manifests,
-and the study's report (postprocess.report) of this case alone: results/<case>/report.md, .html
+The same checks as the study's (verdict.gate), over this case's plan, summary and manifests,
+and the study's report (report.report) of this case alone: results/<case>/report.md, .html
 and plots/. It changes no result of the study's.
 
 Its first act is to withdraw the case's PASS stamp (results/<case>/gate.txt): Snakemake removed
 this rule's own outputs before it started, and the stamp, the case gate's output, must not stand
 beside no verdict, nor survive this rule's failure (a full disk, a read-only plots folder). The
-files are written by `postprocess.gate.write_verdict_files`, verdict.json last.
+files are written by `verdict.gate.write_verdict_files`, verdict.json last.
 """
 
 import json
@@ -18,10 +18,12 @@ import pandas as pd
 from common import log_to
 from contact_model import Body, ContactPair
 from engines.codes import CODES
-from postprocess.gate import gate_checks, verdict_of, write_verdict_files
-from postprocess.report import ReportInputs, stale_build_folders, write_report
-from postprocess.report_timestep import case_error_maps
-from postprocess.verdict_files import withdraw_gate
+from verdict.gate import gate_checks, verdict_of, write_verdict_files
+from report.report import ReportInputs, stale_build_folders, write_report
+from analysis.report_references import report_references
+from analysis.timestep_maps import case_error_bands
+from report.report_timestep import case_error_maps
+from verdict.verdict_files import withdraw_gate
 from records.files import file_sha256
 from records.run_manifest import read_manifest
 
@@ -46,17 +48,18 @@ code_notes = {code: CODES[code].notes for code in dict.fromkeys(b["code"] for b 
 
 def report():
     """The case's report, its time-step section (its laws' errors against dt / T_R,
-    postprocess.report_timestep) first."""
+    report.report_timestep) first."""
     pairs = {g: ContactPair(g, Body(**p["body_1"]), Body(**p["body_2"]), p["E"], p["eta"])
              for g, p in plan["pairs"].items()}
     (folder / "plots").mkdir(parents=True, exist_ok=True)
-    _, timestep = case_error_maps(plan, pairs, folder / "plots" / "timestep.png")
+    reference = pd.read_csv(snakemake.input.reference)
+    _, timestep = case_error_maps(plan, case_error_bands(plan, pairs), folder / "plots" / "timestep.png")
     write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), failed_runs=failed,
                               not_run=plan["not_run"], not_available=plan.get("not_available", []), builds=builds,
                               plan_notes=plan.get("notes", []), timestep=timestep,
                               stale_folders=stale_build_folders(Path(snakemake.output.md).parent, builds),
                               code_notes=code_notes, ladder=snakemake.params.ladder,
-                              reference=pd.read_csv(snakemake.input.reference),
+                              reference=reference, references=report_references(table, reference),
                               title=f"Viscoelastic Hertz contact in DEM engines: case {plan['case']}",
                               folder=folder.as_posix()), folder)
 

@@ -4,7 +4,7 @@ study's verdict stale before a rule changes any result."""
 import logging
 import sys
 
-from postprocess.verdict_files import mark_stale
+from verdict.verdict_files import mark_stale
 
 
 def log_to(path):
@@ -31,7 +31,7 @@ def job_name(smk) -> str:
 
 
 def start_rule(smk, *also, results_dir="results"):
-    """log_to(the rule's log), after marking stale (`postprocess.verdict_files.mark_stale`) the
+    """log_to(the rule's log), after marking stale (`verdict.verdict_files.mark_stale`) the
     verdict of the study (`results_dir`), of the rule's case (`results_dir/<case>`, for a rule with
     a case wildcard) and of the folders `also` (e.g. results/calibration, whose report the study's
     report includes).

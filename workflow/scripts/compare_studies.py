@@ -1,9 +1,9 @@
-"""Snakemake script: this study's checks against a baseline study's (postprocess.compare)."""
+"""Snakemake script: this study's checks against a baseline study's (verdict.compare)."""
 
 from pathlib import Path
 
 from common import log_to
-from postprocess.compare import build_title, compare_checks, load_checks, pair_builds, write_comparison
+from verdict.compare import build_title, compare_checks, load_checks, pair_builds, write_comparison
 
 log = log_to(snakemake.log[0])
 tolerance = snakemake.params.tolerance

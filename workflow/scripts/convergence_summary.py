@@ -13,8 +13,8 @@ import pandas as pd  # noqa: E402
 
 from common import start_rule  # noqa: E402
 from contact_model import load_case  # noqa: E402
-from postprocess.comparison import comparison_rows  # noqa: E402
-from postprocess.convergence import build_spread, convergence_table, largest_dt_table  # noqa: E402
+from analysis.comparison import comparison_rows  # noqa: E402
+from analysis.convergence import build_spread, convergence_table, largest_dt_table  # noqa: E402
 from records.files import save_figure  # noqa: E402
 from records.run_manifest import manifest_dumps  # noqa: E402
 

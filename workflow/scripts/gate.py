@@ -1,5 +1,5 @@
 """Snakemake script: the study's (or one case's) last step. Writes gate.txt on PASS, stating the
-tolerances the PASS was judged against (postprocess.verdict_files.gate_text); on FAIL exits
+tolerances the PASS was judged against (verdict.verdict_files.gate_text); on FAIL exits
 non-zero naming every failing check, and writes nothing that could say PASS.
 
 It refuses a verdict that was not computed from the summary beside it (sha256 mismatch), and a
@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 from common import log_to
-from postprocess.verdict_files import gate_text, mark_stale, stale_sentence, withdraw_gate
+from verdict.verdict_files import gate_text, mark_stale, stale_sentence, withdraw_gate
 from records.files import file_sha256, write_atomically
 from records.run_manifest import changed_dumps
 

@@ -17,7 +17,7 @@ from pathlib import Path
 from common import log_to
 from engines.builds import Build, BuildError, check_build
 from engines.releases import RELEASES, ReleaseError, install
-from postprocess.history import banner_matches
+from analysis.history import banner_matches
 
 log = log_to(snakemake.log[0])
 spec = dict(snakemake.params.spec)

@@ -1,4 +1,4 @@
-"""Snakemake script: one release's checks of the history (postprocess.history), in as few engine
+"""Snakemake script: one release's checks of the history (analysis.history), in as few engine
 processes as its code allows: the reduced cases' viscoelastic ladders and its restitution keywords'
 promise in one sweep, its code's regression cases (LAMMPS) in theirs.
 
@@ -14,10 +14,10 @@ from contact_model.keywords import KEYWORDS
 from engines import run_sweep
 from engines.builds import Build
 from engines.plan import history_plan
-from postprocess.history import (COLUMNS, REGRESSION_CHECKS, banner_date, history_row, limit_check, not_run_rows,
+from analysis.history import (COLUMNS, REGRESSION_CHECKS, banner_date, history_row, limit_check, not_run_rows,
                                  promise_check, promise_check_row)
-from postprocess.keyword_promise import promise_rows, sweep_metrics
-from postprocess.regressions import ladder_limit, regression_table
+from analysis.keyword_promise import promise_rows, sweep_metrics
+from analysis.regressions import ladder_limit, regression_table
 from records.run_manifest import write_manifest
 
 log = log_to(snakemake.log[0])

@@ -1,4 +1,4 @@
-"""Snakemake script: every release's rows in one history (postprocess.history): history.csv, the
+"""Snakemake script: every release's rows in one history (analysis.history): history.csv, the
 history page (history.md, history.html) and history.png."""
 
 from pathlib import Path
@@ -6,8 +6,8 @@ from pathlib import Path
 import pandas as pd
 
 from common import log_to
-from postprocess.history import history_markdown, history_table, plot_history
-from postprocess.report import write_html
+from analysis.history import history_markdown, history_table, plot_history
+from report.report import write_html
 from records.files import write_atomically
 
 log = log_to(snakemake.log[0])

@@ -1,5 +1,5 @@
 """Snakemake script: one build's restitution keywords told every e of config `keywords:`, a ladder
-each, in one engine process; their rows of the promise table (postprocess.keyword_promise).
+each, in one engine process; their rows of the promise table (analysis.keyword_promise).
 
 No verdict is withdrawn or marked stale: these runs are not the study's results (log_to, not
 start_rule)."""
@@ -11,7 +11,7 @@ from contact_model.keywords import KEYWORDS
 from engines import run_sweep
 from engines.builds import Build, check_build
 from engines.plan import keyword_table_plan
-from postprocess.keyword_promise import COLUMNS, promise_rows, sweep_metrics
+from analysis.keyword_promise import COLUMNS, promise_rows, sweep_metrics
 from records.run_manifest import write_manifest
 
 log = log_to(snakemake.log[0])

@@ -1,5 +1,5 @@
 """Snakemake script: the promise table of every build's restitution keyword (promise.csv), its
-summary (promise.md) and its figure (promise.png); postprocess.keyword_promise."""
+summary (promise.md) and its figure (promise.png); analysis.keyword_promise."""
 
 from pathlib import Path
 
@@ -8,8 +8,8 @@ import pandas as pd
 from common import log_to
 from contact_model.measurement_file import load_measurements
 from contact_model.keywords import KEYWORDS
-from postprocess.keyword_promise import over_velocity_cell, plot_promise, promise_over_velocity, promise_summary
-from postprocess.restitution_of_velocity import FOLLOWS_R2, fit_forms, plot_forms
+from analysis.keyword_promise import over_velocity_cell, plot_promise, promise_over_velocity, promise_summary
+from analysis.restitution_of_velocity import FOLLOWS_R2, fit_forms, plot_forms
 from records.files import save_figure, write_atomically
 
 log = log_to(snakemake.log[0])

@@ -4,7 +4,7 @@ from common import start_rule
 from engines.builds import Build
 from engines.lammps import run_regression_cases
 from engines.plan import rungs_of
-from postprocess.regressions import regression_table
+from analysis.regressions import regression_table
 from records.run_manifest import write_manifest
 
 log = start_rule(snakemake)

@@ -1,9 +1,10 @@
 """Snakemake script: the largest dt / T_R holding each tolerance at every start phase, over K and e
-(postprocess.report_timestep.largest_steps), for the study's report."""
+(analysis.timestep_maps.largest_steps, drawn by report.report_timestep), for the study's report."""
 
 from common import start_rule
 from contact_model import load_case
-from postprocess.report_timestep import largest_steps, plot_largest_steps
+from analysis.timestep_maps import largest_steps
+from report.report_timestep import plot_largest_steps
 from records.files import write_atomically
 
 log = start_rule(snakemake)

@@ -5,7 +5,7 @@ import pandas as pd
 
 from common import start_rule
 from records.run_manifest import manifest_dumps
-from postprocess.paper import figures
+from report.paper import figures
 
 log = start_rule(snakemake)
 which = snakemake.params.figure

@@ -5,9 +5,9 @@ from pathlib import Path
 
 from common import start_rule
 from contact_model import load_case
-from postprocess.paper import figures
-from postprocess.paper.claims import claims
-from postprocess.paper.table1 import recompute_table_1
+from report.paper import figures
+from report.paper.claims import claims
+from report.paper.table1 import recompute_table_1
 
 log = start_rule(snakemake)
 out = snakemake.output

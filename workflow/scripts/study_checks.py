@@ -1,9 +1,9 @@
 """Snakemake script: the study's checks and verdict (checks.csv, junit.xml, verdict.json).
 
-The checks are decided in `postprocess.gate` from the plans (what should exist), the summary
+The checks are decided in `verdict.gate` from the plans (what should exist), the summary
 (what landed) and the manifests (what failed); the report rule shows them, FAIL at the top.
 start_rule first marks the study's verdict stale (its gate.txt goes); the files are written by
-`postprocess.gate.write_verdict_files`, verdict.json last.
+`verdict.gate.write_verdict_files`, verdict.json last.
 """
 
 import json
@@ -11,7 +11,7 @@ import json
 import pandas as pd
 
 from common import start_rule
-from postprocess.gate import gate_checks, regression_checks, verdict_of, write_verdict_files
+from verdict.gate import gate_checks, regression_checks, verdict_of, write_verdict_files
 from records.files import file_sha256
 from records.run_manifest import read_manifest
 

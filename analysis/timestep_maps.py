@@ -1,7 +1,7 @@
-"""The reports' time-step figures, from the advisor (`postprocess.timestep`):
+"""The time-step advisor's maps for the reports (`report.report_timestep` draws them):
 
-- each case report: its laws' errors against dt / T_R (0.02-0.5), the band over the contact's start
-  phases shaded, with the lines of 1e-2, 1e-3 and 1e-4 (`case_error_maps`);
+- a case report's errors against dt / T_R (0.02-0.5) over the contact's start phases, for each of
+  its laws (`case_error_bands`, `error_bands`);
 - the study's report: the largest dt / T_R that holds 1e-2, 1e-3 and 1e-4 at every phase, for the
   viscoelastic law over K and for each code's restitution keyword over e (`largest_steps`).
 """
@@ -17,7 +17,6 @@ import pandas as pd
 from contact_model.keywords import KEYWORDS, keyword_reference
 from contact_model.laws import DAMPING_POWER
 from engines.codes import CODES, keyword_of
-from records.files import save_figure
 from reference import solve_collision
 
 from .map_reference import map_law
@@ -61,60 +60,17 @@ def error_bands(collisions: list[Collision]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def plot_error_maps(bands: pd.DataFrame, path) -> None:
-    """|error| against dt / T_R, one panel per geometry and quantity, one band per law."""
-    import matplotlib
-    import matplotlib.ticker
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    geometries = list(dict.fromkeys(bands.geometry))
-    fig, axes = plt.subplots(len(geometries), len(SHOWN), figsize=(4.2 * len(SHOWN), 3.4 * len(geometries)),
-                             squeeze=False, sharex=True)
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    laws = list(dict.fromkeys(bands.law))
-    for i, g in enumerate(geometries):
-        for j, q in enumerate(SHOWN):
-            ax = axes[i][j]
-            for k, law in enumerate(laws):
-                s = bands[(bands.geometry == g) & (bands.quantity == q) & (bands.law == law)]
-                if not len(s):
-                    continue
-                colour = colours[k % len(colours)]
-                ax.fill_between(s.dt_over_T_R, s.abs_err_min.clip(lower=1e-9), s.abs_err_max.clip(lower=1e-9),
-                                color=colour, alpha=0.25, lw=0)
-                ax.plot(s.dt_over_T_R, s.abs_err_max.clip(lower=1e-9), color=colour, lw=1,
-                        label=law if (i, j) == (0, 0) else None)
-            for tol in TOLERANCES:
-                ax.axhline(tol, color="k", lw=0.6, ls=":")
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.set_xticks([0.02, 0.05, 0.1, 0.2, 0.5], ["0.02", "0.05", "0.1", "0.2", "0.5"])
-            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-            ax.set_title(f"{g}: {q}", fontsize=9)
-            ax.grid(alpha=0.3, which="both")
-            if i == len(geometries) - 1:
-                ax.set_xlabel("dt / T_R")
-            if j == 0:
-                ax.set_ylabel("|relative error|")
-    fig.legend(loc="lower center", ncol=min(len(laws), 5), fontsize=8)
-    fig.tight_layout(rect=(0, 0.06 + 0.02 * (len(laws) // 5), 1, 1))
-    save_figure(fig, path, dpi=100)
-    plt.close(fig)
-
-
-def case_error_maps(plan: dict, pairs: dict, path) -> tuple[pd.DataFrame, list[str]]:
-    """The case report's time-step section: for each geometry and law of the plan, the run
-    closest to K = 0.1 (a keyword's told restitution), its errors mapped over dt / T_R and drawn
-    into `path`; (the bands, the section's Markdown lines)."""
+def case_error_bands(plan: dict, pairs: dict) -> pd.DataFrame:
+    """A case report's time-step bands (`error_bands`): for each geometry and law of the plan, the
+    run closest to K = 0.1 (a keyword's told restitution), its errors mapped over dt / T_R; laws
+    that run one equation share a band. Empty when the plan has no run."""
     chosen = {}
     for run in plan["runs"]:
         key = (run["geometry"], run["law"], run["engine"] if run["law"] == "default" else "")
         if key not in chosen or abs(run["K"] - 0.1) < abs(chosen[key]["K"] - 0.1):
             chosen[key] = run
     if not chosen:
-        return pd.DataFrame(), []
+        return pd.DataFrame()
     # One band per equation: laws that run the same one (LIGGGHTS's and ESyS's keywords and LAMMPS's
     # coeff_restitution; YADE's en and betan and Kratos; the two linear dashpots) share a label.
     same: dict[tuple, Collision] = {}
@@ -123,16 +79,7 @@ def case_error_maps(plan: dict, pairs: dict, path) -> tuple[pd.DataFrame, list[s
         key = (c.geometry, c.power, round(c.coefficient, 6), c.clipped, c.criterion)
         same[key] = replace(same[key], law=f"{same[key].law}, {c.law}") if key in same else c
     collisions = list(same.values())
-    bands = error_bands(collisions)
-    plot_error_maps(bands, path)
-    lines = ["## How wrong at the step you run?", "",
-             "Each law's relative error against the time step in units of the Rayleigh time T_R, on the engines' "
-             "discrete map (every build follows it to 1e-12 at these steps: docs/timestep.md), at the velocity of "
-             "K nearest 0.1; the band spans 12 phases of the contact's start within a step, the line is its worst "
-             "(laws that run one equation share a band); "
-             "dotted: 1e-2, 1e-3, 1e-4. For your own step and tolerance: `python -m postprocess.timestep "
-             f"{plan['file']} --law <law> --dt 0.2T_R`.", "", "![time steps](plots/timestep.png)", ""]
-    return bands, lines
+    return error_bands(collisions)
 
 
 def largest_steps(pair, K_values, restitutions, tolerances=TOLERANCES) -> pd.DataFrame:
@@ -172,35 +119,3 @@ def largest_steps(pair, K_values, restitutions, tolerances=TOLERANCES) -> pd.Dat
                 rows.append({"law": " = ".join(f"{code} default" for code in codes), "K": math.nan, "e": e,
                              "tolerance": tol, "dt_max_over_T_R": worst})
     return pd.DataFrame(rows)
-
-
-def plot_largest_steps(table: pd.DataFrame, path) -> None:
-    """The largest dt / T_R for each tolerance: over K (viscoelastic) and over e (the keywords)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-    styles = {1e-2: "-", 1e-3: "--", 1e-4: ":"}
-    v = table[table.law == "viscoelastic"]
-    for tol, s in v.groupby("tolerance"):
-        left.plot(s.K, s.dt_max_over_T_R, "ko" + styles.get(tol, "-"), mfc="none", label=f"{tol:g}")
-    left.set_xlabel("K (the viscoelastic law)")
-    left.set_ylabel("largest dt / T_R (T, A, eps at every phase)")
-    left.legend(title="tolerance", fontsize=8)
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for k, (law, g) in enumerate(table[table.law != "viscoelastic"].groupby("law", sort=False)):
-        for tol, s in g.groupby("tolerance"):
-            right.plot(s.e, s.dt_max_over_T_R, marker="o", mfc="none", ls=styles.get(tol, "-"),
-                       color=colours[k % len(colours)], label=law if tol == TOLERANCES[0] else None)
-    right.set_xlabel("e told (each code's restitution keyword)")
-    right.legend(fontsize=7)
-    for ax in (left, right):
-        ax.set_yscale("log")
-        ax.grid(alpha=0.3, which="both")
-    fig.suptitle("The largest time step that holds each tolerance (solid 1e-2, dashed 1e-3, dotted 1e-4)",
-                 fontsize=10)
-    fig.tight_layout()
-    save_figure(fig, path, dpi=100)
-    plt.close(fig)

@@ -1,7 +1,7 @@
 """The study's gate: one check per engine build x gated law x geometry x criterion x quantity.
 
 A gated run is a ladder of runs at several time steps (`engines.ladder`), judged by its limit
-dt -> 0 (`postprocess.extrapolation`: the extrapolated error e and its resolution r, the
+dt -> 0 (`analysis.extrapolation`: the extrapolated error e and its resolution r, the
 smallest error the ladder can tell from zero). A check is made for every combination the plans
 asked for, whether or not its runs landed:
 
@@ -25,7 +25,6 @@ file or the new one, never half of one.
 
 from __future__ import annotations
 
-import json
 import math
 import xml.etree.ElementTree as ET
 
@@ -38,7 +37,10 @@ from records.files import write_atomically
 from records.quantities import GATED_QUANTITIES  # noqa: F401  (T, A, eps; the reports import it from here)
 from records.quantities import gated_quantities  # read at each call: the table's gated quantities
 
-from .verdict_files import tolerance_problems, tolerance_warnings
+from analysis.checks import judge, judgement, with_build  # noqa: F401  (the reports import with_build from here)
+
+from .verdict_files import tolerance_problems, tolerance_warnings, write_junit_xml
+from .verdict_files import write_verdict  # noqa: F401  (the one writer of verdict.json; its callers import it from here too)
 
 GROUP = ["build", "law", "geometry", "criterion"]
 #: The columns of checks.csv. `gates`: whether the check decides the verdict (the model's laws)
@@ -48,14 +50,6 @@ GROUP = ["build", "law", "geometry", "criterion"]
 CHECK_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "quantity", "planned", "landed", "failed",
                  "max_rel_error", "resolution", "at_K", "case", "at_run", "tolerance", "pass", "reason", "gates",
                  "observed_order", "rung_factors", "rung_errors"]
-
-
-def with_build(df: pd.DataFrame) -> pd.DataFrame:
-    """`df` with a build column: tables from before engine builds were configurable have none,
-    and their build is the engine's code (the only build of each code then)."""
-    if "build" in df.columns or "engine" not in df.columns:
-        return df
-    return df.assign(build=df["engine"])
 
 
 def limit_rows(table: pd.DataFrame) -> pd.DataFrame:
@@ -93,32 +87,6 @@ def planned_groups(plan_runs: pd.DataFrame) -> pd.DataFrame:
     return gated.rename(columns={"name": "run", "represents": "criterion"})[columns]
 
 
-def judgement(error: float, resolution: float, tolerance: float) -> str:
-    """Why a check that is not 'pass' (`judge`) fails, saying what is compared.
-
-    A resolved failure: '4.000e-06 > 1e-06 (resolution 1.6e-07; ' (the caller adds where and the
-    closing parenthesis): |error| exceeds the tolerance by more than its resolution. Unresolved:
-    'not resolved at this tolerance: |error| + resolution = 5.229e-07 + 5.1e-07 = 1.033e-06 > 1e-06
-    >= |error| - resolution = 1.3e-08 (' -- the error alone is within the tolerance, but not with
-    its resolution added, so the ladders cannot tell."""
-    e, r = abs(error), (0.0 if math.isnan(resolution) else resolution)
-    if e - r > tolerance:
-        return f"{e:.3e} > {tolerance:g} (resolution {r:.1e}; "
-    return (f"not resolved at this tolerance: |error| + resolution = {e:.3e} + {r:.1e} = {e + r:.3e} > {tolerance:g}"
-            f" >= |error| - resolution = {e - r:.1e} (")
-
-
-def judge(error: float, resolution: float, tolerance: float) -> str:
-    """'pass' when |error| + resolution <= tolerance, 'fail' when |error| - resolution >
-    tolerance (resolved), 'unresolved' between, 'nan' when the error is NaN."""
-    if math.isnan(error):
-        return "nan"
-    r = 0.0 if math.isnan(resolution) else resolution
-    if abs(error) + r <= tolerance:
-        return "pass"
-    return "fail" if abs(error) - r > tolerance else "unresolved"
-
-
 def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.DataFrame,
                 tolerance: dict) -> pd.DataFrame:
     """Every gated check with its outcome.
@@ -127,7 +95,7 @@ def gate_checks(table: pd.DataFrame, plan_runs: pd.DataFrame, failed_runs: pd.Da
     ----------
     table : DataFrame
         summary.csv: one row per landed run and criterion, and one per ladder and criterion with
-        dt = 0 (`postprocess.extrapolation`): columns run, case, K, the GROUP columns, err_T,
+        dt = 0 (`analysis.extrapolation`): columns run, case, K, the GROUP columns, err_T,
         err_A, err_eps (relative errors, engine vs reference), resolution_T, ... and problem.
     plan_runs : DataFrame
         The planned runs (see `planned_groups`).
@@ -348,16 +316,8 @@ def junit_xml(checks: pd.DataFrame, suite: str = "hertz-dem-gate") -> ET.Element
 
 
 def write_junit(checks: pd.DataFrame, path) -> None:
-    tree = junit_xml(checks)
-    import io
-
-    buf = io.BytesIO()
-    tree.write(buf, encoding="utf-8", xml_declaration=True)
-    write_atomically(path, buf.getvalue())
-
-
-def write_verdict(verdict: dict, path) -> None:
-    write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+    """junit.xml of `checks` (`junit_xml`), through the one JUnit writer (`write_junit_xml`)."""
+    write_junit_xml(junit_xml(checks).getroot(), path)
 
 
 def write_checks(checks: pd.DataFrame, path) -> None:
@@ -370,8 +330,8 @@ def write_verdict_files(checks: pd.DataFrame, verdict: dict, paths, report=None)
     junit.xml, then the report (`report`, a callable that writes it, where the rule has one), then
     verdict.json, last, so that its presence means the rest is written. Each file is written
     atomically. gate.txt is not among them: the gate rules write it from verdict.json
-    (`postprocess.verdict_files.gate_text`), and these rules withdraw it before they start
-    (`postprocess.verdict_files.withdraw_gate`).
+    (`verdict.verdict_files.gate_text`), and these rules withdraw it before they start
+    (`verdict.verdict_files.withdraw_gate`).
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """The gated checks as one compact matrix: engine builds x (law, geometry, criterion).
 
-The gate (`postprocess.gate`) makes one check per build x gated law x geometry x criterion x
+The gate (`verdict.gate`) makes one check per build x gated law x geometry x criterion x
 quantity (T, A, eps). With several builds that long table is unreadable; a reader wants, per
 build and per cell (law, geometry, criterion), one answer: does it pass, how far off is it at
 worst, and, where a build's code cannot express the law, why not. This module computes that
@@ -22,7 +22,7 @@ import pandas as pd
 
 from contact_model import CRITERIA, GATED_LAWS, GEOMETRIES, LAW_CRITERIA
 
-from .gate import GATED_QUANTITIES, with_build
+from verdict.gate import GATED_QUANTITIES, with_build
 
 #: The columns of a matrix cell (`matrix_cells`), in order.
 CELL_COLUMNS = ["build", "engine", "law", "geometry", "criterion", "status", "worst_error", "worst_quantity",
@@ -91,7 +91,7 @@ def matrix_cells(checks: pd.DataFrame, not_available=(), builds: Sequence[str] |
     Parameters
     ----------
     checks : DataFrame
-        `postprocess.gate.gate_checks` (results/checks.csv): build, engine, law, geometry,
+        `verdict.gate.gate_checks` (results/checks.csv): build, engine, law, geometry,
         criterion, quantity, max_rel_error, tolerance, pass, case, at_K, at_run (optional),
         reason.
     not_available : DataFrame or iterable of dict

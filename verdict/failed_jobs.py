@@ -37,7 +37,9 @@ from pathlib import Path
 from engines.engine_process import log_tail
 from records.files import write_atomically
 
-from .verdict_files import SUITE, backdate, is_stale, junit_suite, mark_stale
+from .verdict_files import (SUITE, backdate, html_page, is_stale, junit_suite, mark_stale, write_junit_xml,
+                            write_verdict)
+
 #: How long `sacct` may take for one job before its account is left out [s].
 SACCT_TIMEOUT_S = 30
 #: Lines of a local job's log quoted with its failure.
@@ -258,7 +260,7 @@ def _merge_verdict(path: Path, failures: list[dict]) -> None:
     verdict["failures"] = [*verdict.get("failures", []),
                            *(f"{f['job']} did not finish: {f['reason']}" for f in failures)]
     verdict["failed_jobs"] = failures
-    write_atomically(path, json.dumps(verdict, indent=1) + "\n")
+    write_verdict(verdict, path)
 
 
 def _merge_junit(path: Path, failures: list[dict]) -> None:
@@ -272,7 +274,7 @@ def _merge_junit(path: Path, failures: list[dict]) -> None:
         element.set("tests", str(int(element.get("tests", "0")) + len(failures)))
         element.set("failures", str(int(element.get("failures", "0")) + len(failures)))
     ET.indent(root)
-    write_atomically(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    write_junit_xml(root, path)
 
 
 def _merge_report(results: Path, section: str) -> None:
@@ -293,8 +295,7 @@ def _merge_report(results: Path, section: str) -> None:
     if "<body>" in page:
         page = page.replace("<body>", f"<body>{block}", 1)
     else:
-        page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
-                f"</head><body>{block}</body></html>")
+        page = html_page("Hertz DEM comparison report", block)
     write_atomically(page_path, page)
 
 
@@ -415,7 +416,7 @@ def _write_interrupted(folder: Path, jobs: list[dict], command: str) -> None:
     sentence = f"INTERRUPTED: {names} did not finish (stopped by the user). Continue with: {command}"
     verdict = {"verdict": "INTERRUPTED", "pass": False, "checked": 0, "failed": 0, "failures": [],
                "interrupted_jobs": jobs, "continue": command, "summary_sha256": None}
-    write_atomically(folder / "verdict.json", json.dumps(verdict, indent=1) + "\n")
+    write_verdict(verdict, folder / "verdict.json")
     root = ET.Element("testsuites", name=SUITE, tests=str(len(jobs)), failures="0", errors=str(len(jobs)),
                       skipped="0")
     suite = ET.SubElement(root, "testsuite", name=SUITE, tests=str(len(jobs)), failures="0",
@@ -426,7 +427,7 @@ def _write_interrupted(folder: Path, jobs: list[dict], command: str) -> None:
         ET.SubElement(case, "error", message=f"{j['job']} was interrupted; continue with: {command}",
                       type="interrupted")
     ET.indent(root)
-    write_atomically(folder / "junit.xml", ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    write_junit_xml(root, folder / "junit.xml")
     lines = ["# Hertz DEM comparison report", "", "## The run was interrupted: no verdict", "",
              f"The workflow was stopped by its user (Ctrl-C) before {len(jobs)} job(s) finished; their unfinished "
              "outputs were removed. No check was judged, and nothing here is an engine failure. Continue with:", "",
@@ -435,8 +436,7 @@ def _write_interrupted(folder: Path, jobs: list[dict], command: str) -> None:
     write_atomically(folder / "report.md", "\n".join(lines) + "\n")
     items = "".join(f"<li><strong>{html.escape(j['job'])}</strong>: interrupted</li>" for j in jobs)
     write_atomically(folder / "report.html",
-                     "<!DOCTYPE html><html><head><meta charset='utf-8'><title>Hertz DEM comparison report</title>"
-                     f"</head><body><h1>Hertz DEM comparison report</h1><h2>The run was interrupted: no verdict</h2>"
-                     f"<p>{html.escape(sentence)}</p><ul>{items}</ul></body></html>")
+                     html_page("Hertz DEM comparison report", "<h1>Hertz DEM comparison report</h1><h2>The run was "
+                               f"interrupted: no verdict</h2><p>{html.escape(sentence)}</p><ul>{items}</ul>"))
     for name in ("verdict.json", "junit.xml", "report.md", "report.html"):
         backdate(folder / name)  # written outside their rules: the next run rewrites them

@@ -26,7 +26,9 @@ import pandas as pd
 
 from engines.ladder import observed_order
 
-from .gate import GATED_QUANTITIES, with_build
+from records.quantities import GATED_QUANTITIES
+
+from .checks import with_build
 
 #: The steps over which the observed order is fitted: the ladders' range (dt <= T_e/250).
 ORDER_RANGE = 1.0 / 250.0

@@ -1,6 +1,6 @@
 """Snakemake script: the study's report (report.md, report.html and plots/).
 
-It shows the verdict the checks rule decided (checks.csv, verdict.json; postprocess.gate), FAIL
+It shows the verdict the checks rule decided (checks.csv, verdict.json; verdict.gate), FAIL
 at the top, and links every case's own report, every build comparison and the calibration.
 """
 
@@ -10,14 +10,15 @@ from pathlib import Path
 import pandas as pd
 
 from common import log_to
+from analysis.report_references import report_references
 from engines.codes import CODES
-from postprocess.report import ReportInputs, write_report
-from postprocess.verdict_files import withdraw_gate
+from report.report import ReportInputs, write_report
+from verdict.verdict_files import withdraw_gate
 from records.run_manifest import read_manifest
 
 log = log_to(snakemake.log[0])
 out = Path(snakemake.output.md).parent
-withdraw_gate(out)  # the study's PASS stamp goes while its report is remade (postprocess.verdict_files)
+withdraw_gate(out)  # the study's PASS stamp goes while its report is remade (verdict.verdict_files)
 table = pd.read_csv(snakemake.input.summary)
 checks = pd.read_csv(snakemake.input.checks)
 verdict = json.loads(Path(snakemake.input.verdict).read_text())
@@ -50,6 +51,7 @@ optional = {key: pd.read_csv(snakemake.input[key])
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
+optional["references"] = report_references(table, optional["reference"])  # what the report shows of the solver
 write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), timing, not_run, failed_runs,
                           builds=builds, not_available=not_available, code_notes=code_notes,
                           plan_notes=[note for p in plans for note in p.get("notes", [])],

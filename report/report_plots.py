@@ -1,8 +1,8 @@
 """The report's figures: the engines' ratios and errors against K, the out-of-the-box laws, each
 build in a style of its own (`build_styles`), drawn in worker processes (`start_drawing`).
 
-`postprocess.report` decides which figures a report has and links them; the ladders' figure is
-`postprocess.report_resolution.plot_ladders`.
+`report.report` decides which figures a report has and links them; the ladders' figure is
+`report.report_resolution.plot_ladders`.
 """
 
 from __future__ import annotations
@@ -23,10 +23,10 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from contact_model import CRITERIA, GATED_LAWS  # noqa: E402
-from reference import hertz_ratios, paper_series_value, solve_collisions  # noqa: E402
+from reference import hertz_ratios, paper_series_value  # noqa: E402
 from records.files import save_figure  # noqa: E402
 
-from .gate import GATED_QUANTITIES  # noqa: E402
+from verdict.gate import GATED_QUANTITIES  # noqa: E402
 from .report_matrix import build_order  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
@@ -85,15 +85,6 @@ def _ratio(table, q):
     return table[q] / (table[scale] if isinstance(scale, str) else scale)
 
 
-def reference_curve(K_max: float, reference: pd.DataFrame | None = None):
-    """The reference solution on a K grid up to K_max: the study's reference table
-    (results/reference/collisions.csv, solved once by its own rule) where it reaches K_max,
-    solved here otherwise."""
-    if reference is not None and len(reference) and reference.K.max() >= K_max:
-        return reference[reference.K <= K_max].reset_index(drop=True)
-    return solve_collisions(np.linspace(0.0, K_max, 200))
-
-
 def _plot_build_ratios(ax, runs: pd.DataFrame, q: str, present, styles) -> None:
     """The ratio `q` (`_ratio`) of each present build's runs against K, one marker per geometry."""
     for build in present:
@@ -106,7 +97,7 @@ def _plot_build_ratios(ax, runs: pd.DataFrame, q: str, present, styles) -> None:
 def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=None) -> None:
     """eps, T/T_e, A/A_e, Q1/Q1e, Q2/Q2e against K: every build a marker of its own
     (`build_styles`, in the order of `builds`), hollow, with a dot at the centre on sphere-plane;
-    the reference solver as a line (`curve`, see reference_curve), the paper's
+    the reference solver as a line (`curve`, `analysis.report_references.reference_curve`), the paper's
     series dashed."""
     K = np.asarray(curve.K)
     ref = hertz_ratios(curve, criterion)

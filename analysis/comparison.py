@@ -59,7 +59,7 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
             "law": meta["law"], "geometry": meta["geometry"], "criterion": criterion,
             "V": V, "K": K, "dt": meta["time_step"], "T_e": T_e, "A_e": A_e, "Q1e": Qe["Q1"], "Q2e": Qe["Q2"],
             "samples_in_contact": m.samples_in_contact,
-            # the ladder's columns (postprocess.extrapolation): which ladder, its rung's step in
+            # the ladder's columns (analysis.extrapolation): which ladder, its rung's step in
             # units of T_e, where contact started and ended on the step grid, the round-off floor
             "ladder": meta.get("ladder", ""), "time_step_factor": meta.get("time_step_factor", math.nan),
             "h": meta["time_step"] / T_e, "start_phase": m.start_phase, "end_phase": m.end_phase,

@@ -18,7 +18,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 from records.files import save_figure  # noqa: E402
 
-from .gate import GATED_QUANTITIES  # noqa: E402
+from verdict.gate import GATED_QUANTITIES  # noqa: E402
 
 
 def resolution_sentence(checks: pd.DataFrame, tolerance: dict) -> str:
@@ -108,7 +108,7 @@ def plot_ladders(runs: pd.DataFrame, limits: pd.DataFrame, tolerance: dict, path
 
 
 def map_section(runs: pd.DataFrame, builds=None) -> list[str]:
-    """The engines against their own map (`postprocess.map_reference`): per build and law, the
+    """The engines against their own map (`analysis.map_reference`): per build and law, the
     largest |engine - map| over every rung of every case, for T, A and eps, beside the largest
     round-off floor of those runs. [] when the summary has no map columns."""
     if not len(runs) or "map_err_T" not in runs.columns or runs.map_err_T.isna().all():

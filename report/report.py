@@ -1,6 +1,6 @@
 """The comparison report: results/report.md (read by people and CI), report.html and the plots.
 
-The verdict it shows is decided in `postprocess.gate` (which also writes verdict.json and the
+The verdict it shows is decided in `verdict.gate` (which also writes verdict.json and the
 JUnit XML); the report only presents it, FAIL at the top with every failing check named.
 
 Every law is gated against its own equation: the model's laws (viscoelastic, clipped, elastic) against
@@ -31,10 +31,13 @@ from engines.codes import CODES, integrators, keyword_of
 from records.files import write_atomically
 from reference import FIRST_ORDER, HERTZ_TAU
 
-from .gate import GATED_QUANTITIES, gating, with_build
-from .quantities import readable
+from records.quantities import readable
+from analysis.report_references import report_references, report_rows
+from verdict.gate import GATED_QUANTITIES, gating, with_build
+from verdict.verdict_files import html_page
+
 from .report_matrix import build_order, matrix_cells, matrix_html, matrix_markdown, md_text
-from .report_plots import plot_errors, plot_ratios, reference_curve, start_drawing
+from .report_plots import plot_errors, plot_ratios, start_drawing
 from .report_resolution import ladder_settings, map_section, plot_ladders, resolution_sentence
 
 #: Where the matrices go in the report's text (Markdown in report.md, HTML tables in report.html).
@@ -135,8 +138,8 @@ def findings(table: pd.DataFrame, series_cmp: pd.DataFrame, ladder_runs: pd.Data
 class ReportInputs:
     """What the report shows, as the study's rules read it.
 
-    table: summary.csv; checks, verdict: from `postprocess.gate` (the report shows them, as a
-    matrix, `postprocess.report_matrix`, and links to checks.csv, which the caller writes next to
+    table: summary.csv; checks, verdict: from `verdict.gate` (the report shows them, as a
+    matrix, `report.report_matrix`, and links to checks.csv, which the caller writes next to
     it; it decides nothing); series_cmp: the paper's series coefficients against the solver's;
     timing: the engine jobs' count and seconds; not_run: velocities the plan left out, with the
     reason; failed_runs: runs the engine did not complete (of every law: gated ones also fail
@@ -164,9 +167,9 @@ class ReportInputs:
     convergence: pd.DataFrame | None = None
     convergence_orders: pd.DataFrame | None = None
     convergence_spread: pd.DataFrame | None = None
-    #: The largest dt / T_R for each tolerance over K and e (postprocess.report_timestep.largest_steps).
+    #: The largest dt / T_R for each tolerance over K and e (analysis.timestep_maps.largest_steps).
     largest_steps: pd.DataFrame | None = None
-    #: A case report's time-step section (postprocess.report_timestep.case_error_maps), Markdown lines.
+    #: A case report's time-step section (report.report_timestep.case_error_maps), Markdown lines.
     timestep: list = field(default_factory=list)
     regressions: pd.DataFrame | None = None
     claims: pd.DataFrame | None = None
@@ -187,19 +190,22 @@ class ReportInputs:
     stale_folders: list = field(default_factory=list)
     case_reports: list = field(default_factory=list)
     comparisons: list = field(default_factory=list)
+    #: The reference values the report shows (`analysis.report_references.report_references` of
+    #: table and reference: the plots' reference curve, the model's eps beside the keywords); the
+    #: workflow's scripts compute them, the report solves nothing. None: computed from table.
+    references: dict | None = None
 
 
-def _keyword_section(limits: pd.DataFrame, builds) -> list[str]:
+def _keyword_section(limits: pd.DataFrame, builds, model_restitution: dict) -> list[str]:
     """The engines' restitution keywords: each against its own equation (gated: the law `default`
-    of the matrix above), what it promises, and the viscoelastic model's eps beside it."""
-    from reference import solve_collision
-
+    of the matrix above), what it promises, and the viscoelastic model's eps beside it
+    (`model_restitution`, {(K, criterion): eps}: `analysis.report_references`)."""
     rows = []
     for r in limits.itertuples():
         keyword = KEYWORDS[keyword_of(r.law, r.engine)]
         told = float(r.matched_restitution)
         own = promised_restitution(keyword.name, told)
-        model = solve_collision(float(r.K))[f"eps_{r.criterion}"] if 0 < r.K <= 10 else math.nan
+        model = model_restitution[(float(r.K), r.criterion)]
         rows.append({"case": r.case, "build": r.build, "geometry": r.geometry, "keyword": f"`{keyword.name}`",
                      "criterion": r.criterion, "K": r.K, "told e": told, "eps, its equation": own,
                      "promise error": own - told, "eps, engine (dt -> 0)": own * (1 + r.err_eps),
@@ -353,7 +359,7 @@ def stale_build_folders(folder: Path, builds) -> list[str]:
 
 def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     """Write report.md, report.html and the plots of `inputs` into out_dir (the plots in
-    `workers` processes, `postprocess.report_plots.start_drawing`).
+    `workers` processes, `report.report_plots.start_drawing`).
 
     Every law is gated: its results are shown by its ladders' limits (summary rows with dt = 0),
     its rungs in the ladders' and the map's figures.
@@ -364,19 +370,14 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     convergence, convergence_orders, convergence_spread = i.convergence, i.convergence_orders, i.convergence_spread
     regressions, claims, table1, energy_check = i.regressions, i.claims, i.table1, i.energy_check
     calibration, reference, code_notes = i.calibration, i.reference, i.code_notes
-    table = with_build(table)
-    full = table
-    is_limit = (table.dt == 0) if "dt" in table.columns else pd.Series(False, index=table.index)
-    ladder_runs = table[~is_limit & table.law.isin(GATED_LAWS)]
-    limits = table[is_limit]
-    table = table[is_limit | ~table.law.isin(GATED_LAWS)] if is_limit.any() else table
+    references = i.references if i.references is not None else report_references(table, reference)
+    full, table, limits, ladder_runs = report_rows(table)
     out_dir = Path(out_dir)
     plots = out_dir / "plots"
     plots.mkdir(parents=True, exist_ok=True)
     tolerance = verdict["tolerance"]
     has_rows = len(table) > 0
-    K_max = max(0.5, float(table.K.max()) * 1.05) if has_rows else 0.5
-    curve = reference_curve(K_max, reference) if has_rows else None
+    curve = references["curve"]
     figures = []
     if has_rows:  # the slowest first: with two workers it is drawn beside the three others
         figures += [(plot_errors, (table, tolerance, plots / "errors.png", builds)),
@@ -448,7 +449,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                       "![ladders](plots/ladders.png)", ""]
     lines += map_section(ladder_runs, builds)
     if has_rows and table.law.isin(KEYWORD_LAWS).any():
-        lines += _keyword_section(table[table.law.isin(KEYWORD_LAWS)], builds)
+        lines += _keyword_section(table[table.law.isin(KEYWORD_LAWS)], builds, references["model_restitution"])
     if series_cmp is not None:
         pub = series_cmp.dropna(subset=["paper"])
         lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",
@@ -557,7 +558,7 @@ def _calibration_section(markdown_text: str, folder: str = "calibration") -> lis
 def _convergence_section(largest: pd.DataFrame, orders: pd.DataFrame | None = None,
                          spread: pd.DataFrame | None = None) -> list[str]:
     """Which time step a user may take: the largest dt per build x law x criterion that keeps T,
-    A and eps within each threshold (`postprocess.convergence.largest_dt_table`), the observed
+    A and eps within each threshold (`analysis.convergence.largest_dt_table`), the observed
     orders, and how far the builds differ."""
     def dt_text(r):
         if r.how == "none":
@@ -647,7 +648,7 @@ def _paper_section(claims: pd.DataFrame, table1: pd.DataFrame | None, energy_che
         lines += ["", "Largest |DEM - reference| of each energy fraction during the contact:", "",
                   _md_table(energy_check, ".2g")]
     lines += ["", "![Fig. 4](paper/fig4_energy.png)", "",
-              "Fig. 5: the fracture velocity V_F/V_P against R/L_d (`postprocess/paper/fracture.py`). The paper does "
+              "Fig. 5: the fracture velocity V_F/V_P against R/L_d (`report/paper/fracture.py`). The paper does "
               "not say which pressure, at which instant, reaches P0. Three readings are drawn: the elastic Hertz "
               "pressure at maximum compression (the default: V_F/V_P > 1, tending to 1 for large bodies, the paper's "
               "trend), the same at the instant of maximum force (higher V_F), and the total force, viscous part "
@@ -692,5 +693,4 @@ def write_html(markdown_text: str, path: Path, title: str) -> None:
     import markdown
 
     body = markdown.markdown(markdown_text, extensions=["tables"])
-    write_atomically(path, f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-                    f"<style>{CSS}</style></head><body>{body}</body></html>")
+    write_atomically(path, html_page(title, body, CSS))

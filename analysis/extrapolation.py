@@ -18,7 +18,7 @@ of the same columns as a run's, with ``dt`` = 0 (the limit), and
     rungs_q       the rungs' raw errors, coarsest first, ';'-separated, and rung_factors the
                   rungs' T_e / dt;
     map_err_q     of the rungs' differences from the engines' map replayed at their own dt
-                  (`postprocess.map_reference`), the largest in magnitude (signed);
+                  (`analysis.map_reference`), the largest in magnitude (signed);
     phase_offset  the largest distance (in steps) of a rung's contact start from the planned
                   phase; a ladder beyond `engines.ladder.PHASE_TOLERANCE` is misaligned, and
                   ``problem`` says so (the gate fails its checks: its limit is not trustworthy).
@@ -58,7 +58,7 @@ _DESCRIPTION = ["case", "build", "engine", "engine_version", "law", "geometry", 
 
 def extrapolated_rows(rows: pd.DataFrame) -> pd.DataFrame:
     """One limit row (dt = 0) per ladder and criterion of `rows` (summary rows of runs, with the
-    columns of `postprocess.comparison.comparison_rows`); ladders of fewer than three rungs
+    columns of `analysis.comparison.comparison_rows`); ladders of fewer than three rungs
     (a rung that did not land) and runs outside any ladder are left out.
 
     Returns

@@ -19,7 +19,7 @@ from reference import collision_trajectory, hertz_ratios, paper_series_value, so
 from reference.critical import PAPER_RULE_PREFACTOR  # noqa: E402
 from records.files import save_figure  # noqa: E402
 
-from ..energy import energy_partition  # noqa: E402
+from analysis.energy import energy_partition  # noqa: E402
 
 
 def figure_1(path, K_max: float = 1.0) -> None:

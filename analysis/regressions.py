@@ -2,9 +2,9 @@
 
 One row per case and role: the contact written the way a user would write it ('user') and the
 same contact written the way the study writes it ('control'), each run as a ladder of time steps
-and extrapolated to dt -> 0 like the gated runs (`postprocess.extrapolation`): the relative
+and extrapolated to dt -> 0 like the gated runs (`analysis.extrapolation`): the relative
 errors in T, A and eps against the reference solver (criterion x0) with their resolution or,
-for a ladder with a run that did not complete, the problem. `postprocess.gate.regression_checks`
+for a ladder with a run that did not complete, the problem. `verdict.gate.regression_checks`
 turns it into (non-gating) checks.
 """
 
@@ -55,7 +55,7 @@ def regression_table(cases, sweep, build: str) -> pd.DataFrame:
 
 
 def ladder_limit(rungs, sweep, criterion: str) -> dict:
-    """The limit row dt -> 0 (`postprocess.extrapolation`: err_<q>, resolution_<q>, rungs_<q> for
+    """The limit row dt -> 0 (`analysis.extrapolation`: err_<q>, resolution_<q>, rungs_<q> for
     T, A and eps) of one ladder's dumps in `sweep` (an `engines.Sweep`), under `criterion` ('x0'
     or 'F0')."""
     runs = []

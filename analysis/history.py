@@ -8,10 +8,10 @@ Every release of a code runs the same checks (`workflow/scripts/history_runs.py`
   ladder extrapolated to dt -> 0 and judged as the gate judges (|error| + resolution <= 1e-6);
 - the known defects, as the checks that found them: LAMMPS's ``wall modulus`` and ``mixed pairs``
   (`engines.lammps.regression_cases`), and the ``promise`` of each restitution keyword the release
-  has (`postprocess.keyword_promise`: delivered - requested, at dt -> 0): LAMMPS's ``tsuji``,
+  has (`analysis.keyword_promise`: delivered - requested, at dt -> 0): LAMMPS's ``tsuji``,
   YADE's and Kratos's Thornton fit, LAMMPS's ``coeff_restitution``.
 
-A check's status is 'pass', 'fail', 'unresolved' (`postprocess.gate.judge`), 'not available' (the
+A check's status is 'pass', 'fail', 'unresolved' (`analysis.checks.judge`, as the gate judges), 'not available' (the
 release predates the keyword), 'not installed' (the release could not be installed: the command
 is named) or 'run failed' (the engine did not complete a run: the detail names it).
 
@@ -21,7 +21,7 @@ sources, the LAMMPS manual); the tsuji one is `contact_model.keywords`' own. `hi
 the rows by code and release date; `defect_sentence` says what the rows measured, for one check of
 one code among the releases run: where it is present and where it is fixed ("present in LAMMPS
 29 Sep 2021 ... 2 Aug 2023, fixed in 29 Aug 2024"); `history_markdown` and `plot_history` make the
-history page. `postprocess.history_query` runs the history of one release on one case, told one
+history page. `report.history_query` runs the history of one release on one case, told one
 restitution, and prints its rows and these sentences.
 """
 
@@ -345,15 +345,15 @@ def history_row(base: dict, check: str, status: str, detail: str = "", error: fl
 
 
 def _judged(error: float, resolution: float, tolerance: float) -> str:
-    from .gate import judge
+    from .checks import judge
 
     status = judge(error, resolution, tolerance)
     return "run failed" if status == "nan" else status
 
 
 def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, problem: str = "") -> dict:
-    """The history row of a ladder's limit (`postprocess.regressions.ladder_limit`: err_<q> and
-    resolution_<q> for q in T, A, eps): judged per quantity as the gate judges (`postprocess.gate.judge`,
+    """The history row of a ladder's limit (`analysis.regressions.ladder_limit`: err_<q> and
+    resolution_<q> for q in T, A, eps): judged per quantity as the gate judges (`analysis.checks.judge`,
     with `tolerance` per quantity); its error and resolution are those of the quantity that is
     worst against its tolerance. `problem` (a run that failed) makes it 'run failed'."""
     if problem or limit is None:
@@ -372,7 +372,7 @@ def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, pro
 
 
 def promise_check_row(base: dict, keyword: str, rows: list[dict], tolerance: float) -> dict:
-    """The history row of a restitution keyword's promise: `rows` are its `postprocess.keyword_promise`
+    """The history row of a restitution keyword's promise: `rows` are its `analysis.keyword_promise`
     rows (one per requested e); the row is the e whose |delivered - requested| is largest, judged
     against `tolerance` (absolute, on eps) with its resolution."""
     check = promise_check(keyword)
