@@ -4,8 +4,8 @@ The kit gates a user's dumps exactly as the study gates its engine builds: the s
 (`comparison_rows`, as workflow/scripts/case_summary.py makes them), the same extrapolation to
 dt -> 0 with resolution (`extrapolated_rows`), the same checks, verdict and tolerances
 (`gate_checks`, `verdict_of`), the same files (`write_verdict_files`) and report (`write_report`).
-Every import of the analysis, verdict and report layers by `conformance` is here (the rest of the package imports from this
-module), so that moving the post-processing's modules changes this file alone.
+Every import of the analysis, verdict and report layers by `conformance` is here (the rest of
+the package imports from this module), so that moving their modules changes this file alone.
 """
 
 from analysis.comparison import comparison_rows

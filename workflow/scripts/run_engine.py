@@ -3,8 +3,8 @@
 Dumps, the engine's log and its input go into the rule's declared folder `runs/`; the manifest
 lists the dumps with their sha256 (paths relative to it). A run the engine did not complete is
 recorded in the manifest, not raised: every law is gated (against its own equation), so a run
-that failed fails its checks at the gate, which names it, so that the study still writes its report and JUnit XML. A missing
-engine stops the rule at once (that is set-up, not a verdict).
+that failed fails its checks at the gate, which names it, and the study still writes its report
+and JUnit XML. A missing engine stops the rule at once (that is set-up, not a verdict).
 """
 
 import shutil
