@@ -35,6 +35,7 @@ import pandas as pd
 
 from contact_model.keywords import KEYWORDS, MONTHS, release_date
 from records.files import save_figure
+from records.quantities import gated_quantities
 
 #: The columns of results/history/history.csv: the first six are the issue's; `build` is the id the
 #: release ran as, `banner` its version banner, `date` its release date (from the banner; '' when
@@ -360,7 +361,7 @@ def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, pro
         return history_row(base, check, "run failed", problem or "no limit")
     ranks = {"pass": 0, "unresolved": 1, "fail": 2, "run failed": 3}
     judged = {}
-    for q in ("T", "A", "eps"):
+    for q in gated_quantities():
         err, res = float(limit[f"err_{q}"]), float(limit.get(f"resolution_{q}", 0.0))
         judged[q] = (_judged(err, res, float(tolerance[q])), err, res)
     q = max(judged, key=lambda k: (ranks[judged[k][0]],

@@ -19,6 +19,7 @@ from engines.plan import rungs_of
 from records.collision_metrics import collision_metrics
 from .comparison import comparison_rows
 from records.dump_file import read_dump
+from records.quantities import gated_quantities
 from .extrapolation import extrapolated_rows
 
 
@@ -48,7 +49,7 @@ def regression_table(cases, sweep, build: str) -> pd.DataFrame:
                 continue
             limit = ladder_limit(rungs, sweep, "x0")
             row.update(engine_version=limit["engine_version"], problem="",
-                       **{f"{k}_{q}": limit[f"{k}_{q}"] for q in ("T", "A", "eps")
+                       **{f"{k}_{q}": limit[f"{k}_{q}"] for q in gated_quantities()
                           for k in ("err", "resolution", "rungs")})
             rows.append(row)
     return pd.DataFrame(rows)

@@ -39,13 +39,12 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 from records.files import write_atomically
+from records.quantities import gated_quantities  # the quantities a verdict judges, each with its tolerance
 
 #: The files that carry a verdict; any rule that changes results marks them stale first.
 VERDICT_FILES = ("gate.txt", "verdict.json", "junit.xml", "checks.csv", "report.md", "report.html")
 #: The files marked stale by removal: what they say cannot carry a banner.
 _REMOVED_WHEN_STALE = ("gate.txt", "checks.csv")
-#: The quantities a verdict judges, each with its relative tolerance (config `tolerance:`).
-QUANTITIES = ("T", "A", "eps")
 #: A relative tolerance above this is allowed, with a warning in the log, verdict.json, gate.txt
 #: and the report: a PASS at it says little about an engine.
 LOOSE_TOLERANCE = 1e-2
@@ -114,7 +113,7 @@ def tolerance_problems(tolerance: dict) -> list[str]:
     'tolerance.T = 10 is not a relative tolerance: it must lie in (0, 1) (1e-6 is one part in a
     million, the study's)'."""
     problems = []
-    for q in QUANTITIES:
+    for q in gated_quantities():
         value = tolerance.get(q) if isinstance(tolerance, dict) else None
         if value is None:
             problems.append(f"tolerance.{q} is missing: give the relative tolerance of {q}, e.g. 1e-6")
@@ -128,13 +127,13 @@ def tolerance_warnings(tolerance: dict) -> list[str]:
     """One warning per tolerance above LOOSE_TOLERANCE (1e-2), naming its key:
     'tolerance.T = 0.05 is above 1e-2: a PASS at it allows T to be off by 5 %'."""
     return [f"tolerance.{q} = {tolerance[q]:g} is above 1e-2: a PASS at it allows {q} to be off by "
-            f"{100 * tolerance[q]:g} %" for q in QUANTITIES
+            f"{100 * tolerance[q]:g} %" for q in gated_quantities()
             if isinstance(tolerance.get(q), (int, float)) and tolerance[q] > LOOSE_TOLERANCE]
 
 
 def tolerance_text(tolerance: dict) -> str:
     """'T 1e-06, A 1e-06, eps 1e-06': what a verdict was judged against."""
-    return ", ".join(f"{q} {float(tolerance[q]):g}" for q in QUANTITIES if q in tolerance)
+    return ", ".join(f"{q} {float(tolerance[q]):g}" for q in gated_quantities() if q in tolerance)
 
 
 def gate_text(verdict: dict, summary_sha256: str) -> str:

@@ -16,6 +16,7 @@ from contact_model import load_case  # noqa: E402
 from analysis.comparison import comparison_rows  # noqa: E402
 from analysis.convergence import build_spread, convergence_table, largest_dt_table  # noqa: E402
 from records.files import save_figure  # noqa: E402
+from records.quantities import gated_quantities  # noqa: E402
 from records.run_manifest import manifest_dumps  # noqa: E402
 
 log = start_rule(snakemake)
@@ -42,7 +43,8 @@ build_spread(errors).to_csv(snakemake.output.spread, index=False, float_format="
 # and criterion; the thresholds dotted. Builds that agree draw one curve: hollow markers, each
 # build's larger than the next one's, show them as concentric rings.
 Ks = sorted(errors.K.unique())
-fig, axes = plt.subplots(len(Ks), 3, figsize=(15, 3.6 * len(Ks) + 1.0), squeeze=False)
+GATED = gated_quantities()
+fig, axes = plt.subplots(len(Ks), len(GATED), figsize=(5 * len(GATED), 3.6 * len(Ks) + 1.0), squeeze=False)
 builds = list(dict.fromkeys(errors.build))
 colours = {b: plt.get_cmap("tab10")(k % 10) for k, b in enumerate(builds)}
 lines = {"sphere-sphere": "-", "sphere-plane": "--"}
@@ -51,7 +53,7 @@ markers = {("viscoelastic", "x0"): "o", ("viscoelastic", "F0"): "s", ("viscoelas
 sizes = {b: 4.0 + 2.0 * (len(builds) - 1 - k) for k, b in enumerate(builds)}
 to_TR = rayleigh.get("sphere-plane", next(iter(rayleigh.values())))
 for i, K in enumerate(Ks):
-    for j, q in enumerate(("T", "A", "eps")):
+    for j, q in enumerate(GATED):
         ax = axes[i, j]
         for (build, law, geometry, criterion), g in errors[errors.K == K].groupby(["build", "law", "geometry",
                                                                                    "criterion"]):
