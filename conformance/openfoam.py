@@ -17,6 +17,7 @@ g / sqrt(M* k_n), given directly.
     python -m conformance.openfoam cases PLAN_DIR [--only SUBSTRING]   # one OpenFOAM case per run
     python -m conformance.openfoam run PLAN_DIR [--only SUBSTRING]     # blockMesh + solver, one at a time
     python -m conformance.openfoam convert PLAN_DIR                    # cases' output -> dumps/*.csv
+    python -m conformance.openfoam told ALPHA                          # the export of a given alpha
 
 The run set-up: `icoUncoupledKinematicParcelFoam` (the carrier flow frozen at zero, no drag, no
 gravity: `particleForces` empty, g = 0), one `manualInjection` per body (each its own velocity),
@@ -84,6 +85,30 @@ def alpha_of(run: dict) -> float:
                          "delta^(1/4) d(delta)/dt (export a 'quarter' keyword: --keyword lammps:tsuji)")
     g = law["damping_coefficient_SI"] or 0.0
     return g / math.sqrt(run["effective"]["M_star_kg"] * law["k_n_N_per_m1.5"])
+
+
+#: The restitution keyword whose equation is OpenFOAM's at any alpha: LIGGGHTS's b = (5/2) beta(e)
+#: (contact_model/keywords.py), unclipped, told 0.05 < e <= 1.
+TOLD_KEYWORD = "liggghts:hertz-coefficientRestitution"
+
+
+def told_for_alpha(alpha: float) -> float:
+    """The e that `TOLD_KEYWORD` must be told for OpenFOAM's `alpha`: its b = (5/2) beta(e) is
+    sqrt(5/4) alpha when beta = alpha / sqrt(5), e = exp(-pi beta / sqrt(1 - beta^2)).
+
+    Raises
+    ------
+    ValueError
+        When no e in (0.05, 1] gives it (alpha >= sqrt(5) beta(0.05) ~ 1.54, or alpha < 0).
+    """
+    from contact_model.keywords import KEYWORDS
+
+    beta = alpha / math.sqrt(5.0)
+    e = math.exp(-math.pi * beta / math.sqrt(1.0 - beta * beta)) if 0.0 <= beta < 1.0 else 0.0
+    low, high = KEYWORDS[TOLD_KEYWORD].accepts
+    if not low < e <= high:
+        raise ValueError(f"alpha = {alpha!r}: {TOLD_KEYWORD} would have to be told e = {e!r}, outside ({low}, {high}]")
+    return e
 
 
 def materials(run: dict) -> tuple[float, float, float]:
@@ -398,10 +423,15 @@ def openfoam_version() -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m conformance.openfoam", description=__doc__.split("\n\n")[0])
-    ap.add_argument("action", choices=("cases", "run", "convert"))
-    ap.add_argument("plan_dir", type=Path)
+    ap.add_argument("action", choices=("cases", "run", "convert", "told"))
+    ap.add_argument("plan_dir", help="the plan's folder (`export --out`); for `told`, OpenFOAM's alpha")
     ap.add_argument("--only", default="", help="only the runs whose name contains this")
     args = ap.parse_args(argv)
+    if args.action == "told":
+        e = told_for_alpha(float(args.plan_dir))
+        print(f"python -m conformance export CASE --keyword {TOLD_KEYWORD} --told {e!r} --K K --out DIR")
+        return 0
+    args.plan_dir = Path(args.plan_dir)
     plan = json.loads((args.plan_dir / "plan.json").read_text())
     runs = [r for r in plan["runs"] if args.only in r["name"]]
     cases = args.plan_dir / "openfoam"
