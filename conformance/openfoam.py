@@ -1,6 +1,6 @@
 r"""The conformance kit's plan in OpenFOAM (ESI v1912, Debian's `openfoam`): cases and dumps.
 
-Not an engine of the study (no build, no driver, no CI): a user-side example of docs/conformance.md
+Not an engine of the study (no build, no driver): a user-side example of docs/conformance.md
 on a real code the study does not run. OpenFOAM's lagrangian collision models are Hertz with a
 Tsuji-like dashpot (src/lagrangian/intermediate/submodels/Kinematic/CollisionModel/PairCollision/
 PairModel/PairSpringSliderDashpot/PairSpringSliderDashpot.C:205-212 @v1912; the wall's
