@@ -76,7 +76,7 @@ openfoam:
 	  echo "openfoam: icoUncoupledKinematicParcelFoam is installed"; \
 	else \
 	  $(SUDO) apt-get update && \
-	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends openfoam; \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y openfoam; \
 	fi
 
 venv: $(VENV)/.installed
