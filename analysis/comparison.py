@@ -25,12 +25,34 @@ QUANTITY_NAMES = tuple(QUANTITIES)
 
 
 def measured(T: float, A: float, eps: float, V: float) -> dict[str, float]:
-    """T, A, eps plus Q1 = A^{1/2} T^2 and Q2 = A / (sqrt(V eps V) T) (SI)."""
+    """T, A, eps plus Q1 = A^{1/2} T^2 and Q2 = A / (sqrt(V eps V) T) (SI).
+
+    Parameters
+    ----------
+    T : float
+        Contact time [s].
+    A : float
+        pi R* delta_max [m^2].
+    eps : float
+        Restitution [-].
+    V : float
+        Impact velocity [m/s].
+    """
     return {"T": T, "A": A, "eps": eps, "Q1": math.sqrt(A) * T**2, "Q2": A / (math.sqrt(eps) * V * T)}
 
 
 def hertz_Q(T_e: float, A_e: float, V: float) -> dict[str, float]:
-    """Q1e = A_e^{1/2} T_e^2 and Q2e = A_e / (V T_e)."""
+    """Q1e = A_e^{1/2} T_e^2 and Q2e = A_e / (V T_e).
+
+    Parameters
+    ----------
+    T_e : float
+        Hertz's contact time [s].
+    A_e : float
+        pi R* delta_e [m^2].
+    V : float
+        Impact velocity [m/s].
+    """
     return {"Q1": math.sqrt(A_e) * T_e**2, "Q2": A_e / (V * T_e)}
 
 
@@ -38,7 +60,23 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
                     series=None) -> list[dict]:
     """The summary rows of one run. `meta` is its dump header; `reference_row` may be passed
     to reuse a solution of the ODE at the run's K; `series` is a table as
-    `reference.series.load_paper_series` gives (default: the paper's, parsed once per process)."""
+    `reference.series.load_paper_series` gives (default: the paper's, parsed once per process).
+
+    Parameters
+    ----------
+    meta : dict
+        The run's dump header (`records.dump_file.read_dump`): K, impact_velocity [m/s], T_e [s],
+        A_e [m^2], effective_radius [m], time_step [s], represents (its criteria), case, engine, law,
+        geometry, engine_version, and optionally build, delta_e [m], effective_mass [kg], ladder,
+        time_step_factor, roundoff_floor, matched_restitution.
+    m : records.collision_metrics.CollisionMetrics
+        The run's collision, extracted from its dump.
+    reference_row : dict or None
+        A row of `reference.solve_collisions` at the run's K (solved here when None).
+    series : DataFrame or None
+        The paper's series coefficients, as `reference.series.load_paper_series` gives (None: the
+        paper's).
+    """
     K, V = meta["K"], meta["impact_velocity"]
     T_e, A_e, R = meta["T_e"], meta["A_e"], meta["effective_radius"]
     r = reference_row or solve_collisions([K]).row(0)

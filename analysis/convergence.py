@@ -69,7 +69,17 @@ def largest_dt(h, error, threshold: float) -> tuple[float, str]:
     meets the threshold. Returns (value, how): how is 'interpolated', 'coarsest' (every step
     passes: at least the coarsest), 'beyond' (the finest step fails: the slope of its last two
     steps carried on below it, as the errors are power laws there) or 'none' (no slope to carry:
-    NaN)."""
+    NaN).
+
+    Parameters
+    ----------
+    h : array_like
+        The sweep's steps, dt / T_e [-], in any order.
+    error : array_like
+        The relative error at each step [-] (signed; its magnitude is compared).
+    threshold : float
+        The largest |error| allowed [-].
+    """
     h, e = np.asarray(h, dtype=float), np.abs(np.asarray(error, dtype=float))
     order = np.argsort(h)  # finest first
     h, e = h[order], e[order]
@@ -142,7 +152,14 @@ def build_spread(errors: pd.DataFrame) -> pd.DataFrame:
     (max - min over the builds) / max |error|, per quantity, for the steps at which two or more
     builds ran and the largest |error| exceeds SPREAD_FLOOR. Returns columns law, geometry, K,
     criterion, h, quantity, builds, largest_error, spread: no rows (but these columns) for a
-    study of one build."""
+    study of one build.
+
+    Parameters
+    ----------
+    errors : DataFrame
+        As for `convergence_table`: one row per run and criterion with build (or engine), law,
+        geometry, K, criterion, h (dt / T_e), err_T, err_A, err_eps.
+    """
     errors = with_build(errors)
     rows = []
     for keys, g in errors.groupby(["law", "geometry", "K", "criterion", "h"], sort=False):

@@ -15,7 +15,17 @@ import numpy as np
 
 
 def energy_partition(meta: dict, c: dict) -> dict[str, np.ndarray]:
-    """tau (from first contact, units of delta_e/V), kinetic, elastic, dissipated, total."""
+    """tau (from first contact, units of delta_e/V), kinetic, elastic, dissipated, total.
+
+    Parameters
+    ----------
+    meta : dict
+        The dump header: effective_modulus E* [Pa], effective_radius R* [m], effective_mass M* [kg],
+        impact_velocity V [m/s], delta_e [m].
+    c : dict
+        The dump's columns, arrays of equal length: time [s], overlap delta [m], normal_velocity
+        d(delta)/dt [m/s], normal_force F [N].
+    """
     E, R, M = meta["effective_modulus"], meta["effective_radius"], meta["effective_mass"]
     V, delta_e = meta["impact_velocity"], meta["delta_e"]
     t, d, v, F = c["time"], c["overlap"], c["normal_velocity"], c["normal_force"]

@@ -61,6 +61,13 @@ def extrapolated_rows(rows: pd.DataFrame) -> pd.DataFrame:
     columns of `analysis.comparison.comparison_rows`); ladders of fewer than three rungs
     (a rung that did not land) and runs outside any ladder are left out.
 
+    Parameters
+    ----------
+    rows : DataFrame
+        Summary rows of runs (`analysis.comparison.comparison_rows`), with the columns ladder,
+        criterion, h (dt / T_e), law, K, engine, roundoff_floor, start_phase, end_phase,
+        time_step_factor, samples_in_contact, err_<q>, <q>_ref, <q>_series and series_err_<q>.
+
     Returns
     -------
     DataFrame with the columns of `rows` (dt 0, run the ladder's name, dump empty) and those of

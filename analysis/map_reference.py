@@ -29,7 +29,14 @@ from records.collision_metrics import CollisionMetrics, ExtractionError, collisi
 def map_law(meta: dict) -> tuple[float, float, bool]:
     """(coefficient, damping power, clipped) of the map of the run of dump header `meta`: the
     viscoelastic model's K and x^{1/2} (clipped for viscoelastic_clipped), or an engine keyword's
-    own coefficient, power and clip (`contact_model.keywords`) at the restitution it was told."""
+    own coefficient, power and clip (`contact_model.keywords`) at the restitution it was told.
+
+    Parameters
+    ----------
+    meta : dict
+        The run's dump header: law, engine, K, and matched_restitution (the restitution an engine
+        keyword was told [-]) for a keyword's run.
+    """
     keyword = keyword_of(meta["law"], meta["engine"])
     if keyword is None:
         return float(meta["K"]), 0.5, meta["law"] == "viscoelastic_clipped"
@@ -39,7 +46,16 @@ def map_law(meta: dict) -> tuple[float, float, bool]:
 
 def map_metrics(meta: dict, samples: int) -> CollisionMetrics:
     """The map's collision for the run of dump header `meta` (its law, time step and start
-    phase), `samples` samples long, extracted like an engine's record (dimensionless)."""
+    phase), `samples` samples long, extracted like an engine's record (dimensionless).
+
+    Parameters
+    ----------
+    meta : dict
+        The run's dump header: law, engine, K (matched_restitution for a keyword), time_step [s],
+        impact_velocity [m/s], delta_e [m], optionally start_phase (default 0.5).
+    samples : int
+        The length of the replay, in steps.
+    """
     h = meta["time_step"] * meta["impact_velocity"] / meta["delta_e"]
     coefficient, power, clipped = map_law(meta)
     d = replay(coefficient, h, samples, start_phase=meta.get("start_phase", 0.5), gap_steps=GAP_STEPS,
@@ -50,7 +66,17 @@ def map_metrics(meta: dict, samples: int) -> CollisionMetrics:
 def map_errors(meta: dict, m: CollisionMetrics, samples: int) -> dict:
     """{criterion: {'T', 'A', 'eps': the engine's value / the map's - 1}} of a run of any law
     (`map_law`: the model's or an engine keyword's force on the same map); empty where the map's
-    collision cannot be extracted."""
+    collision cannot be extracted.
+
+    Parameters
+    ----------
+    meta : dict
+        The run's dump header, as for `map_metrics`, with represents (its criteria, 'x0' and/or 'F0').
+    m : records.collision_metrics.CollisionMetrics
+        The engine's collision, in SI units.
+    samples : int
+        The length of the map's replay, in steps.
+    """
     try:
         ref = map_metrics(meta, samples)
     except ExtractionError:

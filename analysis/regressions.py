@@ -27,6 +27,17 @@ def regression_table(cases, sweep, build: str) -> pd.DataFrame:
     """The rows of `cases` (each with name, description, user_writes, run, control, defect_err_T)
     as run in `sweep` (an `engines.Sweep`) by build id `build`.
 
+    Parameters
+    ----------
+    cases : iterable
+        Regression cases (`engines.lammps.regression_cases`), each with name, description,
+        user_writes, run and control (`engines.run_spec.RunSpec`s, each run as the ladder
+        `engines.plan.rungs_of` makes of it) and defect_err_T [-].
+    sweep : engines.Sweep
+        The runs done: ``dumps`` ({run name: dump path}) and ``failures`` ({run name: why}).
+    build : str
+        The build id the cases ran as.
+
     Returns
     -------
     DataFrame with columns build, case, what, role, written as, geometry, K, run, defect_err_T
@@ -58,7 +69,17 @@ def regression_table(cases, sweep, build: str) -> pd.DataFrame:
 def ladder_limit(rungs, sweep, criterion: str) -> dict:
     """The limit row dt -> 0 (`analysis.extrapolation`: err_<q>, resolution_<q>, rungs_<q> for
     T, A and eps) of one ladder's dumps in `sweep` (an `engines.Sweep`), under `criterion` ('x0'
-    or 'F0')."""
+    or 'F0').
+
+    Parameters
+    ----------
+    rungs : sequence of engines.run_spec.RunSpec
+        The ladder's rungs (`engines.plan.rungs_of`).
+    sweep : engines.Sweep
+        The runs done; ``dumps`` must hold each rung's dump.
+    criterion : str
+        The end of contact, 'x0' or 'F0'.
+    """
     runs = []
     for spec in rungs:
         meta, c = read_dump(sweep.dumps[spec.name])

@@ -23,7 +23,14 @@ def report_rows(table: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame, pd.Dat
     """(full, shown, limits, ladder_runs) of a summary table: all its rows (with a build column,
     `with_build`); those the report shows against K (the ladders' limits, dt = 0, and the runs of
     laws without ladders; every row of a table from before ladders); the limits; the gated
-    ladders' rungs."""
+    ladders' rungs.
+
+    Parameters
+    ----------
+    table : DataFrame
+        A summary table (results summary.csv rows), with columns law, K and, from ladder studies on,
+        dt (0 for a ladder's limit).
+    """
     table = with_build(table)
     full = table
     is_limit = (table.dt == 0) if "dt" in table.columns else pd.Series(False, index=table.index)
@@ -36,14 +43,31 @@ def report_rows(table: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame, pd.Dat
 def reference_curve(K_max: float, reference: pd.DataFrame | None = None):
     """The reference solution on a K grid up to K_max: the study's reference table
     (results/reference/collisions.csv, solved once by its own rule) where it reaches K_max,
-    solved here otherwise."""
+    solved here otherwise.
+
+    Parameters
+    ----------
+    K_max : float
+        The largest K of the curve [-].
+    reference : DataFrame or None
+        The study's reference table (results/reference/collisions.csv), with a K column; None or too
+        short: solved here on 200 K from 0 to K_max.
+    """
     if reference is not None and len(reference) and reference.K.max() >= K_max:
         return reference[reference.K <= K_max].reset_index(drop=True)
     return solve_collisions(np.linspace(0.0, K_max, 200))
 
 
 def model_restitution(K: float, criterion: str) -> float:
-    """The viscoelastic model's restitution at K by `criterion` (x0 or F0); NaN outside 0 < K <= 10."""
+    """The viscoelastic model's restitution at K by `criterion` (x0 or F0); NaN outside 0 < K <= 10.
+
+    Parameters
+    ----------
+    K : float
+        The dissipation parameter [-].
+    criterion : str
+        The end of contact, 'x0' or 'F0'.
+    """
     return solve_collision(float(K))[f"eps_{criterion}"] if 0 < K <= 10 else math.nan
 
 
@@ -52,7 +76,15 @@ def report_references(table: pd.DataFrame, reference: pd.DataFrame | None = None
     reference solution up to the plots' K range (max(0.5, 1.05 max K) of the rows shown,
     `reference_curve`, from the study's table `reference` where it reaches that far; None without
     rows), and ``model_restitution``, {(K, criterion): eps} of the viscoelastic model at each
-    restitution keyword's row (`model_restitution`)."""
+    restitution keyword's row (`model_restitution`).
+
+    Parameters
+    ----------
+    table : DataFrame
+        A summary table, as for `report_rows` (columns law, K, criterion, dt).
+    reference : DataFrame or None
+        The study's reference table, as for `reference_curve`.
+    """
     _, shown, _, _ = report_rows(table)
     has_rows = len(shown) > 0
     K_max = max(0.5, float(shown.K.max()) * 1.05) if has_rows else 0.5

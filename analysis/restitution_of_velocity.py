@@ -45,7 +45,19 @@ FORMS = (
 
 
 def form_restitution(form: str, criterion: str, coefficient: float, V: np.ndarray) -> np.ndarray:
-    """eps at impact velocities V [m/s] of damping `form` with its coefficient at 1 m/s."""
+    """eps at impact velocities V [m/s] of damping `form` with its coefficient at 1 m/s.
+
+    Parameters
+    ----------
+    form : str
+        The damping form: 'half', 'quarter' or 'velocity'.
+    criterion : str
+        The end of contact, 'x0' or 'F0' (ignored for 'quarter').
+    coefficient : float
+        The form's coefficient at 1 m/s: K [-] ('half'), e [-] ('quarter'), c [-] ('velocity').
+    V : array_like
+        Impact velocities [m/s].
+    """
     from contact_model.damping_forms import damping_form
 
     if form == "quarter":  # its eps is its one coefficient (e), at every velocity
@@ -56,7 +68,15 @@ def form_restitution(form: str, criterion: str, coefficient: float, V: np.ndarra
 def fit_forms(V, eps) -> pd.DataFrame:
     """Each form of FORMS fitted to the measurements (V [m/s], eps): one row each with its
     coefficient, rms and largest residual, R^2, its eps at the smallest and largest V, and
-    whether it follows the measurements (`FOLLOWS_R2`, the trend's sign)."""
+    whether it follows the measurements (`FOLLOWS_R2`, the trend's sign).
+
+    Parameters
+    ----------
+    V : array_like
+        The measured impact velocities [m/s].
+    eps : array_like
+        The measured restitution at each V [-].
+    """
     V, eps = np.asarray(V, dtype=float), np.asarray(eps, dtype=float)
     total = float(np.sum((eps - eps.mean()) ** 2))
     trend = np.sign(eps[np.argmax(V)] - eps[np.argmin(V)])
@@ -81,7 +101,21 @@ def fit_forms(V, eps) -> pd.DataFrame:
 
 
 def plot_forms(V, eps, fits: pd.DataFrame, path, title: str) -> None:
-    """The measurements and each fitted form's eps(V) on one figure."""
+    """The measurements and each fitted form's eps(V) on one figure.
+
+    Parameters
+    ----------
+    V : array_like
+        The measured impact velocities [m/s].
+    eps : array_like
+        The measured restitution at each V [-].
+    fits : DataFrame
+        `fit_forms`' table: columns form, criterion, value, R2.
+    path : str or path-like
+        Where the figure is saved (`records.files.save_figure`).
+    title : str
+        The figure's title.
+    """
     import matplotlib
 
     matplotlib.use("Agg")

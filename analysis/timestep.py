@@ -209,14 +209,28 @@ def errors_at(c: Collision, h: float, phases=None) -> dict[str, np.ndarray]:
 
 def steps_for(c: Collision, h: float) -> float:
     """The steps one replay of `c` at map step h (dt V / delta_e) takes: the gap before contact, the
-    contact (to `Collision.tau_end`) with 30 % to spare, and 10 more (a float: inf for h -> 0)."""
+    contact (to `Collision.tau_end`) with 30 % to spare, and 10 more (a float: inf for h -> 0).
+
+    Parameters
+    ----------
+    c : Collision
+        The collision.
+    h : float
+        The map's step, dt V / delta_e [-].
+    """
     if not h > 0:
         return math.inf
     return GAP_STEPS + math.ceil(min(1.3 * c.tau_end / h, 1e300)) + 10
 
 
 def finest_step(c: Collision) -> float | None:
-    """The finest step of `GRID_OVER_T_R` [T_R] a replay of `c` takes within MAX_STEPS (None: not one)."""
+    """The finest step of `GRID_OVER_T_R` [T_R] a replay of `c` takes within MAX_STEPS (None: not one).
+
+    Parameters
+    ----------
+    c : Collision
+        The collision (its T_R [s], V [m/s], delta_e [m] and reference).
+    """
     to_h = c.T_R * c.V / c.delta_e
     within = [x for x in GRID_OVER_T_R if steps_for(c, x * to_h) <= MAX_STEPS]
     return float(min(within)) if within else None
@@ -232,7 +246,21 @@ def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None
     `finest_step`). `phases` (default: PHASES of them) and `cache` ({dt /
     T_R: errors}, shared by calls for several tolerances) are passed on to `errors_at`;
     `quantities`: the keys of `errors_at` answered (``("eps_request",)``: a keyword's restitution
-    against what it was asked for, instead of against its own equation)."""
+    against what it was asked for, instead of against its own equation).
+
+    Parameters
+    ----------
+    c : Collision
+        The collision.
+    tolerance : float
+        The largest relative |error| allowed [-].
+    phases : array_like or None
+        The contact's start phases on the step grid (fractions of a step); None: PHASES of them.
+    cache : dict or None
+        {dt / T_R: `errors_at`'s errors}, filled and reused across calls (None: a new one).
+    quantities : tuple of str
+        The keys of `errors_at` answered (default `QUANTITIES`).
+    """
     to_h = c.T_R * c.V / c.delta_e  # dt / T_R -> h
     cache = {} if cache is None else cache
 
@@ -312,7 +340,17 @@ def parse_dt(text: str, T_R: float, T_e: float) -> float:
 def check_dt(c: Collision, dt: float, text: str) -> None:
     """Refuse (AdvisorError naming --dt) a step `dt` [s] the map cannot answer for `c`: longer than
     the Hertz time T_e (no step would fall within the contact), or needing more than MAX_STEPS
-    steps over the contact (the finest step it answers for is named)."""
+    steps over the contact (the finest step it answers for is named).
+
+    Parameters
+    ----------
+    c : Collision
+        The collision (its T_e, T_R [s], V [m/s], delta_e [m]).
+    dt : float
+        The time step [s].
+    text : str
+        The --dt argument as given, quoted in the message.
+    """
     if dt > c.T_e:
         raise AdvisorError(f"--dt {text!r}: {dt:.3g} s is longer than the whole {c.geometry} contact (T_e = "
                            f"{c.T_e:.3g} s, {c.T_e / c.T_R:.3g} T_R): no step would fall within it; give a step "
@@ -705,7 +743,13 @@ def _error_json(err: Exception) -> str:
 
 
 def main(argv=None) -> int:
-    """The command line (see the module's docstring); the exit status: 0 answered, 2 refused."""
+    """The command line (see the module's docstring); the exit status: 0 answered, 2 refused.
+
+    Parameters
+    ----------
+    argv : list of str or None
+        The command line's arguments (None: ``sys.argv[1:]``).
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
     as_json = _wants_json(argv)
     parser = _Parser(prog="python -m postprocess.timestep", description=__doc__.split("\n\n")[0],

@@ -32,7 +32,16 @@ SHOWN = ("T", "A", "eps")
 
 
 def collision_of_run(run: dict, pair) -> Collision:
-    """The advisor's collision of one run of a plan listing (engines.plan.plan_listing) in `pair`."""
+    """The advisor's collision of one run of a plan listing (engines.plan.plan_listing) in `pair`.
+
+    Parameters
+    ----------
+    run : dict
+        A run of the plan listing: law, engine, K [-], velocity [m/s], reference (the reference
+        solver's row), matched_restitution (a keyword's told restitution [-], or absent).
+    pair : contact_model.contact_pair.ContactPair
+        The run's contact pair (its geometry, scales and Rayleigh time).
+    """
     coefficient, power, clipped = map_law({"law": run["law"], "engine": run["engine"], "K": run["K"],
                                            "matched_restitution": run.get("matched_restitution")})
     keyword = keyword_of(run["law"], run["engine"])
@@ -46,7 +55,13 @@ def collision_of_run(run: dict, pair) -> Collision:
 
 def error_bands(collisions: list[Collision]) -> pd.DataFrame:
     """Per collision, step (FRACTIONS of T_R) and quantity: the min, median and max relative error
-    over FIGURE_PHASES (NaN where the step cannot be read)."""
+    over FIGURE_PHASES (NaN where the step cannot be read).
+
+    Parameters
+    ----------
+    collisions : list of Collision
+        The collisions mapped.
+    """
     rows = []
     for c in collisions:
         for x in FRACTIONS:
@@ -63,7 +78,16 @@ def error_bands(collisions: list[Collision]) -> pd.DataFrame:
 def case_error_bands(plan: dict, pairs: dict) -> pd.DataFrame:
     """A case report's time-step bands (`error_bands`): for each geometry and law of the plan, the
     run closest to K = 0.1 (a keyword's told restitution), its errors mapped over dt / T_R; laws
-    that run one equation share a band. Empty when the plan has no run."""
+    that run one equation share a band. Empty when the plan has no run.
+
+    Parameters
+    ----------
+    plan : dict
+        The case's plan listing (`engines.plan.plan_listing`): ``runs``, each a dict with geometry,
+        law, engine, K [-], velocity [m/s], reference.
+    pairs : dict
+        {geometry: contact_model.contact_pair.ContactPair} of the case.
+    """
     chosen = {}
     for run in plan["runs"]:
         key = (run["geometry"], run["law"], run["engine"] if run["law"] == "default" else "")
@@ -85,7 +109,19 @@ def case_error_bands(plan: dict, pairs: dict) -> pd.DataFrame:
 def largest_steps(pair, K_values, restitutions, tolerances=TOLERANCES) -> pd.DataFrame:
     """The largest dt / T_R holding each tolerance at every phase for T, A and eps (the worst of
     them): the viscoelastic law at each K of `K_values`, each code's restitution keyword told each
-    e of `restitutions` (`pair` at 1 m/s). Columns: law, K, e, tolerance, dt_max_over_T_R."""
+    e of `restitutions` (`pair` at 1 m/s). Columns: law, K, e, tolerance, dt_max_over_T_R.
+
+    Parameters
+    ----------
+    pair : contact_model.contact_pair.ContactPair
+        The contact pair.
+    K_values : iterable of float
+        The viscoelastic law's dissipation parameters [-] (each at the velocity giving it).
+    restitutions : iterable of float
+        The restitutions each code's keyword is told [-].
+    tolerances : iterable of float
+        The relative errors to hold [-].
+    """
     rows = []
     for K in K_values:
         V = pair.velocity_for_dissipation(K)

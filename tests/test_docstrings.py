@@ -1,7 +1,8 @@
 """Docs as scipy writes them (issue "Codebase 2"): every public function and method of `reference`,
-`contact_model` and `records` has a numpydoc docstring whose Parameters section names each of its parameters.
+`contact_model`, `records` and `analysis` has a numpydoc docstring whose Parameters section names
+each of its parameters.
 
-The walk: every public module of the two packages (a leading underscore makes a module private;
+The walk: every public module of the packages (a leading underscore makes a module private;
 `__main__` is the command line and is walked), imported in-process; in each, the public
 functions and classes whose ``__module__`` is that module (a re-export, such as
 `reference.solve_collision`, is checked where it is defined, once), and the public methods,
@@ -20,7 +21,7 @@ import re
 
 import pytest
 
-PACKAGES = ("reference", "contact_model", "records")
+PACKAGES = ("reference", "contact_model", "records", "analysis")
 
 #: A numpydoc section header: a title line, then a line of dashes as long as it.
 _HEADER = re.compile(r"^(?P<title>[A-Z][A-Za-z ]*)\n(?P<dashes>-+)$", re.M)
