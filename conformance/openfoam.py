@@ -421,6 +421,27 @@ def openfoam_version() -> str:
     return f"OpenFOAM {SOLVER} (Debian openfoam {v}), pairSpringSliderDashpot/wallSpringSliderDashpot"
 
 
+#: A run's name as the kit's export writes it: it names a case folder this module deletes and rewrites.
+RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]*")
+
+
+def run_problem(run: dict) -> str | None:
+    """Why a run of plan.json cannot name its case folder and dump (a name that is no plain file name,
+    e.g. '../x', or a dump outside dumps/: the plan is data, never a path to delete); None when fine.
+
+    Parameters
+    ----------
+    run : dict
+        One entry of plan.json's ``runs``.
+    """
+    name = str(run.get("name", ""))
+    if not RUN_NAME.fullmatch(name) or ".." in name:
+        return f"plan.json: run name {name!r} is not a plain file name (letters, digits and _ . + -)"
+    if run.get("dump") != f"dumps/{name}.csv":
+        return f"plan.json: run {name!r}: field 'dump' {run.get('dump')!r} is not dumps/{name}.csv"
+    return None
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m conformance.openfoam", description=__doc__.split("\n\n")[0])
     ap.add_argument("action", choices=("cases", "run", "convert", "told"))
@@ -433,7 +454,11 @@ def main(argv=None) -> int:
         return 0
     args.plan_dir = Path(args.plan_dir)
     plan = json.loads((args.plan_dir / "plan.json").read_text())
-    runs = [r for r in plan["runs"] if args.only in r["name"]]
+    runs = [r for r in plan["runs"] if args.only in str(r.get("name", ""))]
+    problems = [p for p in map(run_problem, runs) if p]
+    if problems:
+        print("\n".join(problems), file=sys.stderr)
+        return 2
     cases = args.plan_dir / "openfoam"
     for run in runs:
         case = cases / run["name"]

@@ -111,6 +111,21 @@ def test_converter_refuses_a_misaligned_injection(tmp_path):
         of.case_rows(run, case)
 
 
+@pytest.mark.parametrize("field, value", [("name", "../../../victim"), ("dump", "../victim.csv")])
+def test_a_plan_whose_run_names_a_path_outside_its_folder_is_refused_and_nothing_is_deleted(tmp_path, field, value):
+    """plan.json is data: a run name or dump that would point outside the plan's folders exits 2 naming
+    the field, before any case folder is removed or written."""
+    victim = tmp_path / "victim"
+    victim.mkdir()
+    (victim / "keep.txt").write_text("mine")
+    plan_dir = tmp_path / "plans" / "p"
+    plan_dir.mkdir(parents=True)
+    run = {"name": "your_code-x", "dump": "dumps/your_code-x.csv", field: value}
+    (plan_dir / "plan.json").write_text(json.dumps({"runs": [run]}))
+    assert of.main(["cases", str(plan_dir)]) == 2
+    assert (victim / "keep.txt").read_text() == "mine" and not (plan_dir / "openfoam").exists()
+
+
 def test_openfoam_runs_the_kits_plan_and_passes(runs_engine, tmp_path):
     """OpenFOAM v1912 through the kit (issue "Any code"; CI installs it: make openfoam): the plan of
     alpha = 0.3 (steel on a plane, K = 0.1: one ladder of four runs) run by OpenFOAM's own
