@@ -1,0 +1,121 @@
+"""What one oblique engine run is: a head-on run (`RunSpec`) plus friction, a tangential model,
+a tangential velocity and a spin.
+
+The normal half of every tangential model of the study is the normal law alone (no model of
+`contact_model/tangential_models.yaml` lets the tangential force act back on the normal one), so
+an oblique run's normal motion, contact time and step grid are those of the head-on run at the
+normal velocity: its time step, its steps and its initial positions come from `RunSpec`
+unchanged, and its ladder is aligned the same way (`engines.ladder`).
+
+Conventions (docs/physics.md, "Oblique impacts"): the normal n = +x points from body 1 to body
+2; body 1 approaches with normal velocity v_n > 0; the tangential direction is +y; spins are
+about +z (counter-clockwise positive). For two spheres the initial velocities are split in the
+centre-of-mass frame, tangential as normal (`initial_velocities`); body 2 does not spin at the
+start. The contact point's slip velocity is
+
+    v_s = (v_y1 + R1 w1) - (v_y2 - R2 w2)    [m/s]
+
+(the plane: v_y2 = w2 = 0; R_i the arm the model uses, `reference.TangentialForm`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from .run_spec import RunSpec
+
+
+@dataclass(frozen=True)
+class ObliqueRun:
+    """One oblique collision in one engine build. SI units.
+
+    Attributes
+    ----------
+    normal : RunSpec
+        The head-on run at the normal velocity v_n (`normal.velocity`), with the normal law,
+        the pair (its bodies carry Young's modulus and Poisson's ratio: G* needs them), the build
+        and the time step.
+    model : str
+        The tangential model, a key of `contact_model.tangential_models` (e.g. ``lammps:mindlin``).
+    friction : float
+        Coulomb's mu [-].
+    tangential_velocity : float
+        The bodies' relative tangential velocity of centres at the start, v_y1 - v_y2 [m/s].
+    spin : float
+        Body 1's initial angular velocity about +z [rad/s].
+    damping_ratio : float
+        x_t, the tangential damping as a fraction of the normal one's coefficient (LAMMPS ``xt``),
+        for models whose damping is ``normal_xt``; 0: none.
+    ranks : int
+        MPI processes of the engine run (the processor-boundary check: 2, the subdomain boundary
+        across the contact).
+    """
+
+    normal: RunSpec
+    model: str
+    friction: float
+    tangential_velocity: float
+    spin: float = 0.0
+    damping_ratio: float = 0.0
+    ranks: int = 1
+
+    def __post_init__(self):
+        if not (self.friction >= 0 and math.isfinite(self.friction)):
+            raise ValueError(f"friction must be a finite number >= 0, got {self.friction!r}")
+        if not all(math.isfinite(x) for x in (self.tangential_velocity, self.spin, self.damping_ratio)):
+            raise ValueError("tangential velocity, spin and damping ratio must be finite numbers")
+        if self.ranks not in (1, 2):
+            raise ValueError(f"an oblique run runs on 1 or 2 MPI ranks, got {self.ranks!r}")
+
+    @property
+    def build(self) -> str:
+        return self.normal.build
+
+    @property
+    def pair(self):
+        return self.normal.pair
+
+    @property
+    def angle(self) -> float:
+        """The incidence from the normal [deg]: atan(v_t / v_n) of the centres' relative velocity."""
+        return math.degrees(math.atan2(self.tangential_velocity, self.normal.velocity))
+
+    @property
+    def ladder(self) -> str:
+        """The runs that differ in their time step alone share it (see `RunSpec.ladder`)."""
+        return self._name(self.normal.ladder)
+
+    @property
+    def name(self) -> str:
+        """Unique within a case and safe as a file name."""
+        return self._name(self.normal.name)
+
+    def _name(self, normal: str) -> str:
+        model = self.model.replace(":", "-").replace("/", "_")
+        name = f"{normal}-{model}-mu{self.friction:.6g}-vt{self.tangential_velocity:.6e}-w{self.spin:.6e}"
+        if self.damping_ratio:
+            name += f"-xt{self.damping_ratio:.6g}"
+        return name + (f"-np{self.ranks}" if self.ranks != 1 else "")
+
+    def at_time_step(self, time_step_factor: float) -> "ObliqueRun":
+        """The same run at another rung of its ladder."""
+        return replace(self, normal=replace(self.normal, time_step_factor=time_step_factor))
+
+    def initial_velocities(self) -> dict[str, float]:
+        """The tangential velocities [m/s] and spins [rad/s] of both bodies at the start:
+        vy1, vy2, w1, w2. Two spheres: split in the centre-of-mass frame like the normal ones
+        (`RunSpec.initial_velocities`); the plane: vy2 = 0."""
+        p = self.pair
+        if p.body_2.is_plane:
+            return {"vy1": self.tangential_velocity, "vy2": 0.0, "w1": self.spin, "w2": 0.0}
+        m1, m2 = p.body_1.mass, p.body_2.mass
+        return {"vy1": self.tangential_velocity * m2 / (m1 + m2), "vy2": -self.tangential_velocity * m1 / (m1 + m2),
+                "w1": self.spin, "w2": 0.0}
+
+    def metadata(self) -> dict:
+        """The run's parameters recorded in every dump header: the head-on run's and these."""
+        return {**self.normal.metadata(), "tangential_model": self.model, "friction": self.friction,
+                "tangential_velocity": self.tangential_velocity, "spin": self.spin,
+                "damping_ratio": self.damping_ratio, "ranks": self.ranks, "angle": self.angle,
+                "oblique_ladder": self.ladder, **{f"initial_{k}": v for k, v in self.initial_velocities().items()}}
