@@ -99,6 +99,42 @@ class Case:
     #: The K that restitutes each of `restitutions` under the criterion (independent of the bodies
     #: and the velocity: eta follows from it per contact and velocity).
     restitution_dissipations: tuple[float, ...] = ()
+    #: Oblique impacts (docs/tangential.md): Coulomb's mu (None: a head-on case), the incidences
+    #: from the normal [deg] (with `velocities` the resultants) or the tangential velocities [m/s]
+    #: (with `velocities` the normal components), and body 1's initial spins about +z [rad/s].
+    friction: float | None = None
+    angles: tuple[float, ...] = ()
+    tangential_velocities: tuple[float, ...] = ()
+    spins: tuple[float, ...] = ()
+
+    @property
+    def is_oblique(self) -> bool:
+        """Whether the case gives oblique impacts (`friction` with an angle, tangential velocity or spin)."""
+        return self.friction is not None
+
+    def oblique_impacts(self) -> list[dict]:
+        """The case's oblique impacts: every velocity with every angle or tangential velocity, and
+        every spin.
+
+        Returns
+        -------
+        list of dict
+            Each with ``normal_velocity`` v_n [m/s] (> 0), ``tangential_velocity`` v_t [m/s] (the
+            centres' relative velocity along +y), ``spin`` w1 [rad/s], ``angle`` [deg] (the
+            incidence atan(v_t / v_n)) and ``given`` ('angle' or 'tangential_velocity').
+        """
+        out = []
+        for V in self.velocities:
+            if self.angles:
+                pairs = [(V * math.cos(math.radians(a)), V * math.sin(math.radians(a)), "angle")
+                         for a in self.angles]
+            else:
+                pairs = [(V, vt, "tangential_velocity") for vt in (self.tangential_velocities or (0.0,))]
+            for v_n, v_t, given in pairs:
+                for w in self.spins or (0.0,):
+                    out.append({"normal_velocity": v_n, "tangential_velocity": v_t, "spin": w,
+                                "angle": math.degrees(math.atan2(v_t, v_n)), "given": given})
+        return out
 
     def pair(self, geometry: str) -> ContactPair:
         """The case's contact pair of `geometry`.
@@ -299,6 +335,78 @@ def _impact(data: dict, path) -> tuple[tuple[float, ...], tuple[float, ...]]:
     return (), tuple(vs)
 
 
+#: The units an angle may be written in, in degrees per unit.
+ANGLE_UNITS = {"deg": 1.0, "degree": 1.0, "degrees": 1.0, "rad": 180.0 / math.pi}
+#: The units a spin may be written in, in rad/s per unit.
+SPIN_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0}
+_NUMBER_AND_UNIT = re.compile(r"([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?) ([a-z/]+)")
+
+
+def _number_in(value, units: dict, name: str, path, example: str) -> float:
+    """'<number> <unit>' with a unit of `units` (per unit: the factor to the field's unit), strictly."""
+    match = _NUMBER_AND_UNIT.fullmatch(value) if isinstance(value, str) else None
+    if not match or match[2] not in units:
+        raise CaseError(path, name, f"must be one plain number, one space and a unit of {', '.join(units)}, e.g. "
+                                    f"'{example}', got {shown(value)}")
+    x = float(match[1]) * units[match[2]]
+    if not math.isfinite(x):
+        raise CaseError(path, name, f"{shown(value)} is beyond double precision")
+    return x + 0.0
+
+
+def _oblique(data: dict, path) -> tuple[float | None, tuple, tuple, tuple]:
+    """(friction, angles [deg], tangential velocities [m/s], spins [rad/s]) of a case, checked."""
+    impact = data.get("impact") or {}
+    given = [k for k in ("angle", "tangential_velocity", "spin") if k in impact]
+    if "friction" not in data:
+        if given:
+            raise CaseError(path, f"impact.{given[0]}", "an oblique impact needs `friction:` (Coulomb's mu) at the "
+                                                        "top level of the case file")
+        return None, (), (), ()
+    mu = float(data["friction"])
+    if not math.isfinite(mu):
+        raise CaseError(path, "friction", f"must be a finite number >= 0, got {shown(data['friction'])}")
+    if not given:
+        raise CaseError(path, "friction", "is for oblique impacts: give `impact: angle: [...]`, "
+                                          "`impact: tangential_velocity: [...]` or `impact: spin: [...]` with it")
+    if "bodies" not in data:
+        raise CaseError(path, "friction", "needs the contact given as `bodies:` (each with young and poisson): the "
+                                          "tangential stiffness 8 G* needs each body's shear modulus, which E* alone "
+                                          "does not give")
+    if "angle" in impact and "tangential_velocity" in impact:
+        raise CaseError(path, "impact.tangential_velocity", "give either `angle` (with `velocity` the resultant) or "
+                                                            "`tangential_velocity` (with `velocity` the normal "
+                                                            "component), not both")
+    if "restitution" in impact:
+        raise CaseError(path, "impact.restitution", "oblique impacts run the normal law of `viscosity:` (0 P for an "
+                                                    "elastic contact); a restitution is not supported with them")
+    angles = []
+    for i, a in enumerate(impact.get("angle", ())):
+        x = _number_in(a, ANGLE_UNITS, f"impact.angle[{i}]", path, "30 deg")
+        if not 0.0 <= x < 90.0:
+            raise CaseError(path, f"impact.angle[{i}]", f"must lie in [0, 90) deg from the normal (90 deg grazes: "
+                                                        f"no normal velocity, no collision), got {shown(a)}")
+        if x in angles:
+            raise CaseError(path, f"impact.angle[{i}]", f"gives {shown(a)} a second time")
+        angles.append(x)
+    tangential = []
+    for i, v in enumerate(impact.get("tangential_velocity", ())):
+        x = quantity(v, f"impact.tangential_velocity[{i}]", path)
+        if x in tangential:
+            raise CaseError(path, f"impact.tangential_velocity[{i}]", f"gives {shown(v)} a second time")
+        tangential.append(x)
+    spins = []
+    for i, w in enumerate(impact.get("spin", ())):
+        x = _number_in(w, SPIN_UNITS, f"impact.spin[{i}]", path, "50 rad/s")
+        if x in spins:
+            raise CaseError(path, f"impact.spin[{i}]", f"gives {shown(w)} a second time")
+        spins.append(x)
+    if spins and any(spins) and mu == 0:
+        raise CaseError(path, "impact.spin", "a spin with no friction (friction: 0) never acts on the collision: "
+                                             "give friction > 0, or leave the spin out")
+    return mu, tuple(angles), tuple(tangential), tuple(spins)
+
+
 def _check_finite(pair: ContactPair, fields: dict, path) -> None:
     """E*, R*, M* must be positive, finite doubles (extreme inputs can overflow or underflow)."""
     for symbol, attribute, unit in (("E*", "E", "Pa"), ("R*", "R", "m"), ("M*", "M", "kg")):
@@ -395,12 +503,14 @@ def parse_case(data, path, project=None) -> Case:
                     _viscosity(p, V, K_r, i, path)
         pairs = tuple(replace(p, eta=_viscosity(p, velocities[0], dissipations[0], 0, path)) for p in pairs)
     measurements = _measurements(data, pairs, path, project)
+    friction, angles, tangential, spins = _oblique(data, path)
     known = {"name", "description", "viscosity", "bodies", "effective_modulus", "radius",
-             "density", "geometries", "impact", "measurements"}
+             "density", "geometries", "impact", "measurements", "friction"}
     extra = {k: v for k, v in data.items() if k not in known}  # the documentation keys
     return Case(str(name), str(path), pairs, K, velocities, str(data.get("description", "")), extra,
                 measurements, viscosity_unit=written_unit(data["viscosity"]) if "viscosity" in data else "Pa*s",
-                restitutions=restitutions, restitution_criterion=criterion, restitution_dissipations=dissipations)
+                restitutions=restitutions, restitution_criterion=criterion, restitution_dissipations=dissipations,
+                friction=friction, angles=angles, tangential_velocities=tangential, spins=spins)
 
 
 def _restitution(data: dict, path) -> tuple[tuple[float, ...], str]:

@@ -42,6 +42,7 @@ DIMENSIONS = {
     "radius": ("[length]", "m"),
     "density": ("[mass] / [length] ** 3", "kg/m^3"),
     "velocity": ("[length] / [time]", "m/s"),
+    "tangential_velocity": ("[length] / [time]", "m/s"),
 }
 
 #: One poise in SI [Pa s]: the paper's unit of viscosity.
