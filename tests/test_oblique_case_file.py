@@ -43,7 +43,8 @@ def test_angles_split_the_resultant_into_normal_and_tangential(tmp_path):
 
 
 def test_tangential_velocity_keeps_the_normal_component_and_spins_multiply(tmp_path):
-    text = OBLIQUE.replace("angle: [5 deg, 45 deg, 0.5 rad]", "tangential_velocity: [0.5 m/s, 100 cm/s]\n  spin: [0 rad/s, 60 rpm]")
+    text = OBLIQUE.replace("angle: [5 deg, 45 deg, 0.5 rad]",
+                           "tangential_velocity: [0.5 m/s, 100 cm/s]\n  spin: [0 rad/s, 60 rpm]")
     case = load_case(write(tmp_path, text))
     impacts = case.oblique_impacts()
     assert [(i["normal_velocity"], i["tangential_velocity"]) for i in impacts] == [
