@@ -6,6 +6,7 @@
     snakemake -j2 calibration         eta fitted to every case with measurements (results/calibration/)
     snakemake -j2 keywords            each build's restitution keyword over e: its promise (results/keywords/)
     snakemake -j2 history             every release of each code against the checks and known defects (results/history/)
+    snakemake -j2 oblique             oblique impacts: every build's tangential models gated (results/oblique/full/)
 
 Settings: config/config.yaml (validated against config/config.schema.yaml). Logs: logs/,
 benchmarks: logs/benchmarks/<case>/<build>.tsv, results: results/. The rules live in
@@ -157,6 +158,7 @@ include: "workflow/rules/compare.smk"
 include: "workflow/rules/keywords.smk"
 include: "workflow/rules/history.smk"
 include: "workflow/rules/config_files.smk"
+include: "workflow/rules/oblique.smk"
 
 # Light bookkeeping stays on the submitting host when a cluster profile is used. Every other
 # rule's job is a SLURM job of its own there (profiles/slurm), with its cluster_resources.

@@ -60,6 +60,9 @@ class EngineCode:
     driver : str
         'module:function' of the sweep runner, called as
         ``function(specs, workdir, executable=..., timeout_floor_s=...)`` -> `engines.Sweep`.
+    oblique_driver : str
+        'module:function' of its oblique sweep runner (`engines.oblique_run.ObliqueRun` runs,
+        called as `driver`), '' where the study does not yet run the code's tangential models.
     decks : tuple of str
         Glob patterns (relative to the project) of the files its runs read.
     cost : EngineCost
@@ -106,6 +109,7 @@ class EngineCode:
     #: {law: (release, how)}: a law of `supplied` the engine computes itself from `release` on
     #: ((year, month) of its version), e.g. YADE's clipped viscoelastic force from 2024.02a.
     native: dict[str, tuple[tuple[int, int], str]] = field(default_factory=dict)
+    oblique_driver: str = ""
 
     def supplied_in(self, version: str) -> dict[str, str]:
         """`supplied` of the release whose version line is `version` ('YADE 2025.2.0 (...)'): the
@@ -132,9 +136,13 @@ class EngineCode:
         E*, R*, M* and eta by its `parameters` function."""
         return self.parameters(pair.E, pair.R, pair.M, pair.eta)
 
-    def runner(self):
-        """The sweep runner (imported on first use: drivers import numpy and the post-processing)."""
-        module, function = self.driver.split(":")
+    def runner(self, oblique: bool = False):
+        """The sweep runner (imported on first use: drivers import numpy and the post-processing);
+        `oblique`: the oblique one (ValueError where the code has none)."""
+        driver = self.oblique_driver if oblique else self.driver
+        if not driver:
+            raise ValueError(f"the study runs no oblique impacts in {self.name} yet (docs/tangential.md)")
+        module, function = driver.split(":")
         return getattr(importlib.import_module(module), function)
 
 

@@ -77,6 +77,11 @@ class ObliqueRun:
         return self.normal.pair
 
     @property
+    def law(self) -> str:
+        """The normal law (`RunSpec.law`)."""
+        return self.normal.law
+
+    @property
     def angle(self) -> float:
         """The incidence from the normal [deg]: atan(v_t / v_n) of the centres' relative velocity."""
         return math.degrees(math.atan2(self.tangential_velocity, self.normal.velocity))

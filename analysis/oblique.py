@@ -1,0 +1,315 @@
+r"""Oblique impacts: from the rungs of each engine ladder to its limit dt -> 0, against the
+tangential model's own equation, and the gate's checks.
+
+An oblique run (`engines.oblique_run.ObliqueRun`) is a rung of a ladder of runs that differ in
+their time step alone (the head-on run's ladder: its contact starts half a step after a sample at
+every rung). For each rung, `rung_row` reads the engine's dump (`records.oblique_metrics`) and
+sets it against the reference of the model's own equation (`reference.solve_oblique`, solved once
+per ladder); `limit_rows` extrapolates every quantity's error to dt -> 0 (`engines.ladder`) and
+`oblique_checks` gates it: a check passes when |error| + resolution <= tolerance.
+
+Errors (``err_<q>``), each dimensionless, in the form that stays meaningful where the quantity
+itself vanishes (no spin after a frictionless impact, a slip that stops):
+
+    T, eps, Ft_max    relative: engine / reference - 1;
+    vt_after          (engine - reference) / V_s, with V_s = sqrt(v_n^2 + v_t^2) + R1 |w1| the
+                      impact's speed scale [m/s];
+    omega_after       (engine - reference) R1 / V_s;
+    e_t               engine - reference (a ratio of order 1; left out where the contact point
+                      does not slip at the start, v_s = 0: e_t is then undefined);
+    rebound_angle     (engine - reference) in radians.
+
+Ladder powers: an oblique contact's tangential force depends on the slip velocity, which the
+engines' map sees half a step late, and on where stick and slip meet, which falls anywhere on the
+step grid: the expansion is taken as the dissipative one's integer and half-integer powers (1,
+3/2, 2, ...) and the estimate says what the ladder resolves (`engines.ladder.extrapolate`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from contact_model.tangential_models import form_of
+from engines.ladder import RESOLUTION_FLOOR, extrapolate
+from records.dump_file import DumpError, read_dump
+from records.oblique_metrics import oblique_metrics
+from reference import rigid_body_sliding, solve_oblique
+
+#: The gated quantities of an oblique impact and how their error is formed (module docstring).
+OBLIQUE_QUANTITIES = ("T", "eps", "vt_after", "omega_after", "e_t", "rebound_angle", "Ft_max")
+#: Reported beside them, not gated.
+OBLIQUE_REPORTED = ("delta_max", "F_max")
+#: Powers of h = dt / T_e eliminated by the extrapolation, in order.
+OBLIQUE_POWERS = (1.0, 1.5, 2.0, 2.5, 3.0)
+
+
+def speed_scale(v_n: float, v_t: float, spin: float, R1: float) -> float:
+    """V_s = sqrt(v_n^2 + v_t^2) + R1 |w1| [m/s]: the speed that scales the tangential errors.
+
+    Parameters
+    ----------
+    v_n, v_t : float
+        The impact's normal and tangential velocity [m/s].
+    spin : float
+        Body 1's initial spin [rad/s].
+    R1 : float
+        Body 1's radius [m].
+    """
+    return math.hypot(v_n, v_t) + R1 * abs(spin)
+
+
+def errors(engine: dict, ref: dict, v_n: float, v_t: float, spin: float, R1: float) -> dict:
+    """The errors ``err_<q>`` of one run's values against the reference's (module docstring).
+
+    Parameters
+    ----------
+    engine, ref : dict
+        The quantities of `OBLIQUE_QUANTITIES` [SI; rebound_angle in degrees], each of the engine
+        run and of the reference; ``slip_before`` [m/s] in `ref` says whether e_t is defined.
+    v_n, v_t, spin, R1 : float
+        The impact (`speed_scale`).
+
+    Returns
+    -------
+    dict
+        err_<q> for every quantity of OBLIQUE_QUANTITIES (NaN where undefined).
+    """
+    V = speed_scale(v_n, v_t, spin, R1)
+    out = {}
+    for q in ("T", "eps", "Ft_max"):
+        out[f"err_{q}"] = engine[q] / ref[q] - 1.0 if ref[q] != 0 else engine[q] - ref[q]
+    out["err_vt_after"] = (engine["vt_after"] - ref["vt_after"]) / V
+    out["err_omega_after"] = (engine["omega_after"] - ref["omega_after"]) * R1 / V
+    defined = abs(ref.get("slip_before", 1.0)) > 1e-12 * V
+    out["err_e_t"] = engine["e_t"] - ref["e_t"] if defined else math.nan
+    out["err_rebound_angle"] = math.radians(engine["rebound_angle"] - ref["rebound_angle"])
+    return out
+
+
+def reference_of(run, tangential_stiffness: float | None = None) -> dict:
+    """The reference of an oblique run's own equations (`reference.solve_oblique`), in the
+    quantities of `records.oblique_metrics` (relative tangential velocity of the centres).
+
+    Parameters
+    ----------
+    run : engines.oblique_run.ObliqueRun
+        The run (any rung of its ladder: the reference does not depend on dt).
+    tangential_stiffness : float, optional
+        k_t [N/m] of a linear tangential spring (the dump's ``tangential_stiffness``); Mindlin's
+        k_t0 = 8 G* follows from the bodies.
+
+    Returns
+    -------
+    dict
+        T [s], eps, delta_max [m], F_max [N], vt_after [m/s], omega_after [rad/s], e_t,
+        rebound_angle [deg], Ft_max [N], slip_before [m/s], slides_throughout (bool), phases (text),
+        and rigid_vt_after [m/s], rigid_omega_after [rad/s] where the contact slides throughout.
+    """
+    p = run.pair
+    b1, b2 = p.body_1, p.body_2
+    form = form_of(run.model, p.geometry)
+    G_star = shear_modulus_star(b1, b2)
+    v = run.initial_velocities()
+    v_n, v_t = run.normal.velocity, run.tangential_velocity
+    r = solve_oblique(geometry=p.geometry, R1=b1.radius, m1=b1.mass, R2=b2.radius, m2=b2.mass, E_star=p.E,
+                      G_star=G_star, R_star=p.R, M_star=p.M, eta=p.eta, clipped=run.law == "viscoelastic_clipped",
+                      mu=run.friction, form=form, v_n=v_n, v_t=v_t, w1=v["w1"],
+                      k_t0=tangential_stiffness if form.stiffness == "linear" else None, x_t=run.damping_ratio)
+    out = {"T": r.T, "eps": r.eps, "delta_max": r.delta_max, "F_max": r.F_max, "vt_after": r.vt_after - r.vt2_after,
+           "omega_after": r.omega_after, "e_t": r.e_t, "rebound_angle": r.rebound_angle, "Ft_max": r.Ft_max,
+           "slip_before": v_t + b1.radius * v["w1"],
+           "slides_throughout": len(r.phases) == 1 and r.phases[0][0] == "slip",
+           "phases": "; ".join(f"{kind} from {t:.6e} s" for kind, t in r.phases)}
+    if out["slides_throughout"]:
+        rigid = rigid_body_sliding(v_n, r.eps, run.friction, b1.radius, b1.mass, 0.4 * b1.mass * b1.radius ** 2,
+                                   v_s=out["slip_before"], R2=b2.radius, m2=b2.mass,
+                                   I2=0.4 * b2.mass * b2.radius ** 2)
+        out["rigid_vt_after"] = v_t + rigid["dv1"] - rigid["dv2"]
+        out["rigid_omega_after"] = v["w1"] + rigid["dw1"]
+    return out
+
+
+def shear_modulus_star(body_1, body_2) -> float:
+    """G* [Pa]: 1/G* = (2 - nu_1)/G_1 + (2 - nu_2)/G_2, G_i = E_i / (2 (1 + nu_i)) (Mindlin; a rigid
+    body adds nothing).
+
+    Parameters
+    ----------
+    body_1, body_2 : contact_model.Body
+        The bodies (Young's modulus [Pa] and Poisson's ratio each).
+    """
+    total = 0.0
+    for b in (body_1, body_2):
+        if b.young is None or b.poisson is None:
+            raise ValueError("the tangential stiffness needs each body's Young's modulus and Poisson's ratio")
+        if math.isinf(b.young):
+            continue
+        total += 2.0 * (2.0 - b.poisson) * (1.0 + b.poisson) / b.young
+    return 1.0 / total
+
+
+#: The description columns of a rung row, from its run.
+_DESCRIPTION = ("case", "build", "engine", "model", "geometry", "law", "friction", "angle", "spin",
+                "normal_velocity", "tangential_velocity", "radius_1", "ladder", "run", "dump", "dt", "h",
+                "time_step_factor", "ranks")
+
+
+def rung_rows(runs, sweep, known_defects=()) -> pd.DataFrame:
+    """One row per landed run: its description, the engine's values, the reference's
+    (``<q>_ref``), the errors (``err_<q>``, `errors`), and the rigid-body values where the
+    contact slides throughout; runs whose dump cannot be read get ``problem``.
+
+    Parameters
+    ----------
+    runs : list of engines.oblique_run.ObliqueRun
+        The planned runs.
+    sweep : engines.finish_run.Sweep
+        Their dumps (and failures, which have no row here: `oblique_checks` names them).
+    known_defects : sequence of dict
+        Config ``oblique.known_defects``: {build, model, max_error, reference, description}; a
+        ladder of that build and model carries the text in ``known_defect`` and its size in
+        ``known_defect_max_error``.
+    """
+    refs, rows = {}, []
+    for run in runs:
+        path = sweep.dumps.get(run.name)
+        if path is None:
+            continue
+        try:
+            meta, columns = read_dump(path, oblique=True)
+            engine = oblique_metrics(columns, meta)
+        except (DumpError, ValueError) as err:
+            rows.append({"run": run.name, "ladder": run.ladder, "build": run.build, "problem": str(err)})
+            continue
+        if run.ladder not in refs:
+            refs[run.ladder] = reference_of(run, meta.get("tangential_stiffness"))
+        ref = refs[run.ladder]
+        T_e = run.normal.scales["T_e"]
+        row = {"case": run.normal.case, "build": run.build, "engine": run.normal.engine, "model": run.model,
+               "geometry": run.pair.geometry, "law": run.law, "friction": run.friction, "angle": run.angle,
+               "spin": run.spin, "normal_velocity": run.normal.velocity, "tangential_velocity": run.tangential_velocity,
+               "radius_1": run.pair.body_1.radius, "ladder": run.ladder, "run": run.name, "dump": str(path),
+               "dt": run.normal.time_step, "h": run.normal.time_step / T_e,
+               "time_step_factor": run.normal.time_step_factor, "ranks": run.ranks,
+               "engine_version": meta.get("engine_version", "")}
+        for q in OBLIQUE_QUANTITIES + OBLIQUE_REPORTED:
+            row[q], row[f"{q}_ref"] = engine[q], ref[q]
+        row.update(errors(engine, ref, run.normal.velocity, run.tangential_velocity, run.spin,
+                          run.pair.body_1.radius))
+        for q in ("delta_max", "F_max"):
+            row[f"err_{q}"] = engine[q] / ref[q] - 1.0
+        row.update(slides_throughout=ref["slides_throughout"], phases=ref["phases"],
+                   rigid_vt_after=ref.get("rigid_vt_after", math.nan),
+                   rigid_omega_after=ref.get("rigid_omega_after", math.nan))
+        for d in known_defects:
+            if d["build"] == run.build and d["model"] == run.model:
+                row.update(known_defect=f"{d['description']} ({d['reference']})",
+                           known_defect_max_error=float(d["max_error"]))
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def limit_rows(rungs: pd.DataFrame) -> pd.DataFrame:
+    """One row per ladder (column ``ladder``): every gated error extrapolated to dt -> 0, with its
+    resolution, order and rungs.
+
+    Parameters
+    ----------
+    rungs : DataFrame
+        One row per landed run, with the columns ladder, h (dt / T_e, the rung's step) and
+        err_<q> for q in OBLIQUE_QUANTITIES, and the run's description (case, build, model, ...).
+
+    Returns
+    -------
+    DataFrame
+        The finest rung's description, dt = 0, rungs, and for each q: err_<q> (the limit),
+        estimate_<q>, resolution_<q> = max(estimate, RESOLUTION_FLOOR), order_<q> and rungs_<q>;
+        ladders of fewer than three rungs are left out.
+    """
+    out = []
+    for _, g in rungs.groupby("ladder", sort=False):
+        if len(g) < 3:
+            continue
+        g = g.sort_values("h", ascending=False)  # coarsest first
+        row = g.iloc[-1].to_dict()
+        row.update(dt=0.0, h=0.0, rungs=len(g), dump="")
+        h = g.h.to_numpy(dtype=float)
+        for q in OBLIQUE_QUANTITIES + OBLIQUE_REPORTED:
+            column = f"err_{q}"
+            if column not in g or not g[column].notna().all():
+                row.update({column: math.nan, f"resolution_{q}": math.nan})
+                continue
+            e = extrapolate(h, g[column].to_numpy(dtype=float), OBLIQUE_POWERS)
+            row.update({column: e.value, f"estimate_{q}": e.estimate, f"order_{q}": e.order,
+                        f"resolution_{q}": max(e.estimate, RESOLUTION_FLOOR),
+                        f"rungs_{q}": ";".join(f"{x:.6e}" for x in g[column])})
+        out.append(row)
+    return pd.DataFrame(out)
+
+
+CHECK_COLUMNS = ["build", "case", "model", "geometry", "angle", "spin", "ranks", "quantity", "error", "resolution",
+                 "status", "detail"]
+
+
+def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failures=None) -> pd.DataFrame:
+    """The gate's checks of the oblique ladders: one per ladder and gated quantity, and one per
+    planned ladder that did not land (a failed run, or fewer than three rungs).
+
+    A check passes when |error| + resolution <= tolerance. One that does not, of a ladder with a
+    declared known defect (``known_defect``), is 'KNOWN DEFECT' while |error| stays within the
+    declared size (``known_defect_max_error``), and FAIL beyond it: a declared defect is never
+    passed silently, and a defect that grows is news.
+
+    Parameters
+    ----------
+    limits : DataFrame
+        `limit_rows`' rows.
+    tolerance : float
+        The largest |error| + resolution a check passes with [-] (1e-6 as the head-on gate's).
+    planned : engines.oblique_plan.ObliquePlan, optional
+        The plan: its ladders without a limit row fail, named.
+    failures : dict, optional
+        {run name: EngineRunFailed} of the sweep: the reason given for those ladders.
+
+    Returns
+    -------
+    DataFrame
+        CHECK_COLUMNS; status 'PASS', 'FAIL' or 'KNOWN DEFECT'.
+    """
+    rows = []
+    for _, r in limits.iterrows():
+        defect = str(r.get("known_defect", "") or "") if pd.notna(r.get("known_defect", None)) else ""
+        size = float(r.get("known_defect_max_error", math.nan)) if defect else math.nan
+        for q in OBLIQUE_QUANTITIES:
+            err, res = r.get(f"err_{q}", math.nan), r.get(f"resolution_{q}", math.nan)
+            if q == "e_t" and not np.isfinite(err):
+                continue  # no slip at the start: e_t undefined, nothing to check
+            ok = bool(np.isfinite(err) and np.isfinite(res) and abs(err) + res <= tolerance)
+            known = not ok and defect and np.isfinite(err) and abs(err) <= size
+            status = "PASS" if ok else ("KNOWN DEFECT" if known else "FAIL")
+            detail = f"|{err:.3g}| + {res:.3g} {'<=' if ok else '>'} {tolerance:g}"
+            if defect and not ok:
+                detail += (f"; known defect within its declared size {size:g}: {defect}" if known else
+                           f"; beyond the known defect's declared size {size:g}: {defect}")
+            rows.append({"build": r["build"], "case": r["case"], "model": r["model"], "geometry": r["geometry"],
+                         "angle": r["angle"], "spin": r["spin"], "ranks": r.get("ranks", 1), "quantity": q,
+                         "error": err, "resolution": res, "status": status, "detail": detail})
+    if planned is not None:
+        landed = set(limits.ladder) if len(limits) else set()
+        ladder_of = {r.name: r.ladder for r in planned.runs}
+        problems = {}
+        for name, failure in (failures or {}).items():
+            problems.setdefault(ladder_of.get(name), failure.problem)
+        for run in planned.runs:
+            if run.ladder in landed:
+                continue
+            landed.add(run.ladder)
+            why = problems.get(run.ladder, "fewer than three rungs landed")
+            rows.append({"build": run.build, "case": run.normal.case, "model": run.model,
+                         "geometry": run.pair.geometry, "angle": run.angle, "spin": run.spin, "ranks": run.ranks,
+                         "quantity": "run", "error": math.nan, "resolution": math.nan, "status": "FAIL",
+                         "detail": f"the ladder did not land: {why}"})
+    return pd.DataFrame(rows, columns=CHECK_COLUMNS)

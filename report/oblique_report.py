@@ -1,0 +1,208 @@
+"""The oblique impacts' report (results/oblique/<set>/report.md), its figures and verdict.json.
+
+What a DEM user choosing a friction model reads first: which build's tangential model does what
+its own equations say (the conformance matrix: build x tangential model x geometry), the three
+figures of Chung & Ooi's test 4 (e_t, omega' and the rebound angle against incidence, every build
+and model, with each model's reference and the rigid-body line of gross sliding), the gross-sliding
+comparison with the rigid-body closed form, and every failed check with its figures.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from records.files import write_atomically
+
+#: The figures: (quantity, axis label, file name).
+FIGURES = (("e_t", "tangential restitution e_t = v_s'/v_s", "e_t.png"),
+           ("omega_after", "rebound spin omega' [rad/s]", "omega_after.png"),
+           ("rebound_angle", "rebound angle of the contact point [deg]", "rebound_angle.png"))
+
+
+def verdict_of(checks: pd.DataFrame) -> dict:
+    """PASS when every check passes (a declared known defect counts apart, never as a pass).
+
+    Parameters
+    ----------
+    checks : DataFrame
+        `analysis.oblique.oblique_checks`' rows (status PASS, FAIL or KNOWN DEFECT).
+    """
+    counts = checks.status.value_counts().to_dict() if len(checks) else {}
+    failed = int(counts.get("FAIL", 0))
+    return {"verdict": "PASS" if len(checks) and not failed else "FAIL", "checks": int(len(checks)),
+            "passed": int(counts.get("PASS", 0)), "failed": failed, "known_defects": int(counts.get("KNOWN DEFECT", 0))}
+
+
+def conformance_matrix(checks: pd.DataFrame) -> pd.DataFrame:
+    """Build x (tangential model, geometry): 'PASS n/n', 'FAIL k of n' or 'KNOWN DEFECT k of n'.
+
+    Parameters
+    ----------
+    checks : DataFrame
+        `analysis.oblique.oblique_checks`' rows.
+    """
+    if not len(checks):
+        return pd.DataFrame()
+
+    def cell(g):
+        n, failed, known = len(g), int((g.status == "FAIL").sum()), int((g.status == "KNOWN DEFECT").sum())
+        if failed:
+            return f"FAIL {failed} of {n}"
+        if known:
+            return f"KNOWN DEFECT {known} of {n}"
+        return f"PASS {n}/{n}"
+
+    table = checks.groupby(["build", "model", "geometry"]).apply(cell, include_groups=False).rename("cell")
+    return table.reset_index().pivot(index=["model", "geometry"], columns="build", values="cell").fillna("n/a")
+
+
+def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
+    """One figure per quantity of FIGURES against the incidence angle [deg]: every build and model
+    (markers: the engine at dt -> 0), each model's reference (line) and, for e_t and omega', the
+    rigid-body gross-sliding line where the limits carry it. Returns the files' names.
+
+    Parameters
+    ----------
+    limits : DataFrame
+        The ladders' limit rows (columns build, model, geometry, case, angle, spin, <q>, <q>_ref,
+        and rigid_<q> where a rigid-body value is known).
+    folder : str or os.PathLike
+        Where the PNG files go.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    names = []
+    if not len(limits) or "angle" not in limits:
+        return names
+    plain = limits[(limits.spin == 0)] if "spin" in limits else limits
+    for q, label, file_name in FIGURES:
+        if q not in plain:
+            continue
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=False)
+        for ax, geometry in zip(axes, ("sphere-plane", "sphere-sphere")):
+            g = plain[plain.geometry == geometry]
+            for (case, model), ref in g.groupby(["case", "model"]):
+                ref = ref.drop_duplicates("angle").sort_values("angle")
+                if f"{q}_ref" in ref:
+                    ax.plot(ref.angle, ref[f"{q}_ref"], "-", lw=0.8, alpha=0.6, label=f"{model} reference")
+            for (build, model), e in g.groupby(["build", "model"]):
+                e = e.sort_values("angle")
+                ax.plot(e.angle, e[q], "o", ms=3.5, mfc="none", label=f"{build} {model}")
+            if f"rigid_{q}" in g and g[f"rigid_{q}"].notna().any():
+                r = g.dropna(subset=[f"rigid_{q}"]).drop_duplicates("angle").sort_values("angle")
+                ax.plot(r.angle, r[f"rigid_{q}"], "k--", lw=1.2, label="rigid body, gross sliding")
+            ax.set_title(geometry)
+            ax.set_xlabel("incidence from the normal [deg]")
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3)
+        handles, labels = axes[0].get_legend_handles_labels()
+        more = axes[1].get_legend_handles_labels()
+        seen = dict(zip(labels + more[1], handles + more[0]))
+        fig.legend(seen.values(), seen.keys(), loc="lower center", ncol=3, fontsize=7, frameon=False)
+        fig.tight_layout(rect=(0, 0.18, 1, 1))
+        fig.savefig(folder / file_name, dpi=110)
+        plt.close(fig)
+        names.append(file_name)
+    return names
+
+
+def _md_table(df: pd.DataFrame) -> str:
+    if not len(df):
+        return "(none)\n"
+    head = "| " + " | ".join(str(c) for c in df.columns) + " |\n"
+    rule = "|" + "---|" * len(df.columns) + "\n"
+    return head + rule + "".join("| " + " | ".join(str(v) for v in row) + " |\n" for row in df.itertuples(index=False))
+
+
+def junit_text(checks: pd.DataFrame) -> str:
+    """The checks as JUnit XML (one testcase per check; FAIL a failure, KNOWN DEFECT skipped with
+    its reason), for CI.
+
+    Parameters
+    ----------
+    checks : DataFrame
+        `analysis.oblique.oblique_checks`' rows.
+    """
+    import xml.etree.ElementTree as ET
+
+    suite = ET.Element("testsuite", name="hertz-dem-oblique", tests=str(len(checks)),
+                       failures=str(int((checks.status == "FAIL").sum()) if len(checks) else 0),
+                       skipped=str(int((checks.status == "KNOWN DEFECT").sum()) if len(checks) else 0))
+    for r in checks.itertuples():
+        case = ET.SubElement(suite, "testcase", classname=f"{r.build}.{r.model}.{r.geometry}",
+                             name=f"{r.case} angle {r.angle:.6g} spin {r.spin:g} np{r.ranks} {r.quantity}")
+        if r.status == "FAIL":
+            ET.SubElement(case, "failure", message=str(r.detail))
+        elif r.status == "KNOWN DEFECT":
+            ET.SubElement(case, "skipped", message=str(r.detail))
+    return ET.tostring(suite, encoding="unicode") + "\n"
+
+
+def write_oblique_report(summary: pd.DataFrame, limits: pd.DataFrame, checks: pd.DataFrame, report_path,
+                         verdict_path, figures_folder, tolerance: float, junit_path=None) -> dict:
+    """Write report.md, the figures and verdict.json; return the verdict.
+
+    Parameters
+    ----------
+    summary : DataFrame
+        Every rung and limit row (summary.csv).
+    limits : DataFrame
+        The ladders' limit rows.
+    checks : DataFrame
+        The gate's checks (`analysis.oblique.oblique_checks`).
+    report_path, verdict_path, figures_folder : str or os.PathLike
+        Where to write.
+    tolerance : float
+        The gate's tolerance [-], named in the report.
+    junit_path : str or os.PathLike, optional
+        Where to write the checks as JUnit XML.
+    """
+    verdict = verdict_of(checks)
+    figures = draw_figures(limits, figures_folder)
+    lines = ["# Oblique impacts: the tangential half of the contact", "",
+             f"**Verdict: {verdict['verdict']}** ({verdict['passed']} of {verdict['checks']} checks pass, "
+             f"{verdict['failed']} fail, {verdict['known_defects']} are declared known defects; tolerance "
+             f"{tolerance:g} with the resolution added).", "",
+             "Each build's tangential model is gated against its own equations (docs/tangential.md), the engine "
+             "extrapolated to dt -> 0 over a ladder of time steps (analysis/oblique.py says how each error is "
+             "formed).", "", "## Conformance matrix (build x tangential model x geometry)", ""]
+    matrix = conformance_matrix(checks)
+    lines.append(_md_table(matrix.reset_index()) if len(matrix) else "(no checks)\n")
+    if len(limits) and "rigid_vt_after" in limits and limits.rigid_vt_after.notna().any():
+        lines += ["## Gross sliding against the rigid-body closed form", "",
+                  "Where the contact slides throughout, dv_t = -mu (1 + eps) v_n and, for a sphere on a plane with "
+                  "lever arm R, dw = (5/2) mu (1 + eps) v_n / R. The difference is the engine's at dt -> 0; a "
+                  "code whose arm is R - delta/2 departs from the second by the overlap's share.", ""]
+        g = limits.dropna(subset=["rigid_vt_after"])
+        V = np.hypot(g.normal_velocity, g.tangential_velocity)
+        table = pd.DataFrame({"build": g.build, "model": g.model, "geometry": g.geometry,
+                              "angle [deg]": g.angle.map(lambda a: f"{a:.4g}"),
+                              "(vt' - rigid) / V": ((g.vt_after - g.rigid_vt_after) / V).map(lambda x: f"{x:.2e}"),
+                              "(w' - rigid) R / V": ((g.omega_after - g.rigid_omega_after) * g.radius_1 / V).map(
+                                  lambda x: f"{x:.2e}")})
+        lines += [_md_table(table), ""]
+    if figures:
+        lines += ["## Against incidence (Chung & Ooi's test 4)", ""]
+        lines += [f"![{f}](figures/{f})" for f in figures] + [""]
+    failed = checks[checks.status != "PASS"] if len(checks) else checks
+    lines += ["## Checks that do not pass", ""]
+    if len(failed):
+        cols = ["build", "model", "geometry", "angle", "spin", "quantity", "status", "detail"]
+        lines.append(_md_table(failed[cols]))
+    else:
+        lines.append("(none)\n")
+    write_atomically(Path(report_path), "\n".join(lines) + "\n")
+    write_atomically(Path(verdict_path), json.dumps(verdict, indent=2) + "\n")
+    if junit_path is not None:
+        write_atomically(Path(junit_path), junit_text(checks))
+    return verdict
+
