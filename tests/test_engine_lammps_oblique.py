@@ -3,8 +3,8 @@ friction off leaves the tangential motion alone; gross sliding of alumina on alu
 rigid-body closed form over a ladder of time steps; one and two MPI ranks (the box split at the
 contact) give the same dump; and k_t reaches omega_after of a sticking-dominated impact.
 
-Measured here (both builds alike, sphere-plane, `mindlin`, 60 deg, V = 3.9 m/s, ~0.2 s a collision
-within a sweep: 0.07-0.11 s): the rungs' dv_t and dw miss the closed form with eps_n = 1 by -1.7e-9 (T_e/250),
+Measured here (both builds alike, sphere-plane, `mindlin`, 60 deg, V = 3.9 m/s, 0.07-0.11 s a collision
+within a sweep): the rungs' dv_t and dw miss the closed form with eps_n = 1 by -1.7e-9 (T_e/250),
 -1.5e-10, -1.4e-11, -1.0e-12 (T_e/2000), the orders of successive rung differences 3.5 and 3.4
 (the normal restitution's own error, eps_n - 1, has the same rungs: the tangential impulse is
 mu times the normal one to 5e-14 at every rung, and the wall's torque arm is R); extrapolated over
