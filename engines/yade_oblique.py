@@ -11,6 +11,7 @@ elastic normal law only) is the deck's docstring's.
 from __future__ import annotations
 
 import math
+from functools import partial
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -72,8 +73,9 @@ def _material(body, which: str) -> tuple[float, float]:
     return body.young, body.poisson
 
 
-def job_entry(spec: _Run, out: Path) -> dict:
-    """The numbers of one oblique run for the deck (SI)."""
+def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None) -> dict:
+    """The numbers of one oblique run for the deck (SI); `stiffness_scale` (a check's knob, not a
+    study run's): YADE's tangential stiffness k_so multiplied by it."""
     run = spec.run
     normal = run.normal
     p = normal.pair
@@ -88,6 +90,8 @@ def job_entry(spec: _Run, out: Path) -> dict:
              "young1": young1, "poisson1": poisson1, "young2": young2, "poisson2": poisson2,
              "friction": run.friction, "betas": run.damping_ratio, **turn,
              "y1": -turn["vy1"] * t_align, "y2": -turn["vy2"] * t_align, "M": p.M}
+    if stiffness_scale is not None:
+        entry["kso_scale"] = stiffness_scale
     return entry
 
 
@@ -118,17 +122,20 @@ def _oblique_dump(engine, spec: _Run, entry, st, raw: Path, workdir: Path, log, 
 
 
 def run_yade_oblique(runs: list[ObliqueRun], workdir, executable: str = EXECUTABLE,
-                     timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> Sweep:
+                     timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, stiffness_scale: float | None = None) -> Sweep:
     """Run every oblique run in one YADE process; write `workdir/<run.name>.csv` (8 columns) for each.
 
     Raises EngineMissing if YADE is not installed, ValueError for a run YADE's deck cannot express
     (bodies without Young's modulus and Poisson's ratio, a rigid plane). A run that fails (a normal law
     other than `elastic`, no collision, NaN) is an EngineRunFailed in the returned `Sweep`; a YADE that
-    stops fails the run in progress as `engines.yade.run_yade` does.
+    stops fails the run in progress as `engines.yade.run_yade` does. `stiffness_scale` (for the checks
+    that the deck's stiffness reaches the result): every run's k_so times it, the contact created before
+    the bodies touch so that it holds from the first step (None: YADE's own, the contact created by
+    the collider).
     """
     exe = require_executable("yade", executable)
     specs = [_Run(r) for r in runs]
-    files = prepare_sweep("yade", specs, workdir, job_entry)
+    files = prepare_sweep("yade", specs, workdir, partial(job_entry, stiffness_scale=stiffness_scale))
     cmd = [exe, "-n", "-x", str(DRIVER), f"job={files.job}"]
     limit = time_limit("yade", specs, timeout_floor_s)
     done = run_logged(cmd, files.log, limit, cwd=files.workdir, env={"PYTHONUNBUFFERED": "1"})

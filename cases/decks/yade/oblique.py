@@ -97,10 +97,16 @@ def build(run):
         InteractionLoop(
             [Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom(hertzian=True)],  # hertzian: R* = R
             [ip2],
-            [Law2_ScGeom_MindlinPhys_Mindlin()]),
+            [Law2_ScGeom_MindlinPhys_Mindlin(neverErase="kso_scale" in run)]),
         NewtonIntegrator(damping=0.0, gravity=(0, 0, 0)),  # YADE's default damping is 0.2
     ]
     O.dt = run["dt"]
+    if "kso_scale" in run:
+        # A check's knob (engines/yade_oblique.py, stiffness_scale): the contact is created now, before
+        # the bodies touch (neverErase keeps it through the approach, where Law2 gives no force), so that
+        # its k_so, scaled here, holds from the first step of contact.
+        i = utils.createInteraction(a, b)
+        i.phys.kso = i.phys.kso * run["kso_scale"]
     S.clear()
     S.update(run=run, a=a, b=b, two=two)
 
