@@ -32,9 +32,10 @@
 #
 # Lever arm: Law2 applies the contact force at ScGeom.contactPoint. For the wall that is the sphere's
 # centre projected onto the wall, an arm R - delta; for two spheres the middle of the overlap,
-# R_i - delta/2. The slip velocity YADE uses is R_i w_i (noRatch / avoidGranularRatcheting). The
-# spin change therefore differs from a lever arm R by the overlap (relative ~delta/R), which the
-# host's tests measure.
+# R_i - delta/2. The spin change therefore differs from a lever arm R by the overlap (relative
+# ~delta/R): measured on the plane, -2.0e-3 for alumina at 60 deg, the arm R - delta to 4e-12
+# (tests/test_engine_yade_oblique.py). The slip velocity's arm (ScGeom::getIncidentVel: R_i with the
+# ratcheting correction, the default) matters only while the contact sticks; not measured here.
 #
 # Two spheres: the centres start offset in y (the host's y1, y2) so that they are aligned on the x axis
 # in the middle of the contact (engines/yade_oblique.py, ALIGN): the contact normal turns with the
