@@ -63,7 +63,7 @@ def prepare_sweep(engine: str, specs, workdir, job_entry, **more_files: Path) ->
 
 
 def collect_sweep(engine: str, banner: str, exe: str, specs, files: SweepFiles, done: Finished, limit: float,
-                  driver: Path, progress: str | None = None) -> Sweep:
+                  driver: Path, progress: str | None = None, make_dump=None) -> Sweep:
     """The `Sweep` of one driven engine process.
 
     Parameters
@@ -80,9 +80,14 @@ def collect_sweep(engine: str, banner: str, exe: str, specs, files: SweepFiles, 
         The driver script (its name and sha256 go into every dump header).
     progress : str, optional
         Where the driver printed 'RUN <name>' / 'RUN FAILED <name>: <error>' lines; default the log.
+    make_dump : callable, optional
+        (engine, spec, entry, status, raw, workdir, log, version, driver) -> the dump's path, or
+        EngineRunFailed; default the head-on dump (4 columns, `write_run_dump`). The oblique drivers
+        (engines/yade_oblique.py) write their 8 columns with their own.
     """
     workdir, log, status_path, raws, entries = files.workdir, files.log, files.status, files.raws, files.entries
     sweep = Sweep(engine_seconds=done.seconds)
+    make_dump = make_dump or _dump
     printed = log.read_text(errors="replace") if log.exists() else ""
     progress = printed if progress is None else progress
     status = json.loads(status_path.read_text()) if status_path.exists() else None
@@ -113,7 +118,7 @@ def collect_sweep(engine: str, banner: str, exe: str, specs, files: SweepFiles, 
         else:  # the engine stopped later: this run finished, and wrote its record unless it failed
             failed = re.search(rf"^RUN FAILED {re.escape(spec.name)}: (.*)$", progress, flags=re.M)
             st = {"ok": False, "error": failed.group(1)} if failed else {"ok": True}
-        sweep.finish(spec, lambda: _dump(engine, spec, entry, st, raws[spec.name], workdir, log, version, driver))
+        sweep.finish(spec, lambda: make_dump(engine, spec, entry, st, raws[spec.name], workdir, log, version, driver))
     return sweep
 
 

@@ -1,0 +1,142 @@
+"""YADE's oblique driver (host side): many `ObliqueRun`s -> one `yade -n -x oblique.py job=...` -> dumps.
+
+The head-on driver's machinery (engines/yade.py, engines/driven_sweep.py: one process per sweep, its
+time limit, its log, a failed run's error) with the deck cases/decks/yade/oblique.py, which runs
+Hertz-Mindlin with its tangential law (Ip2_FrictMat_FrictMat_MindlinPhys + Law2_ScGeom_MindlinPhys_Mindlin)
+and records the 8 columns of `records.dump_file.OBLIQUE_COLUMNS` per step. What YADE does differently
+from the study's contact (the sphere-wall R*, the lever arm, the averaged G and nu of two materials, the
+elastic normal law only) is the deck's docstring's.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import partial
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from records.collision_metrics import ExtractionError, collision_metrics
+from records.dump_file import OBLIQUE_COLUMNS, write_dump
+from records.files import file_sha256
+
+from .driven_sweep import collect_sweep, prepare_sweep
+from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
+from .errors import EngineRunFailed, require_executable
+from .finish_run import Sweep
+from .oblique_run import ObliqueRun
+
+EXECUTABLE = "yade"
+DRIVER = Path(__file__).resolve().parents[1] / "cases" / "decks" / "yade" / "oblique.py"
+#: The deck records 8 columns where the head-on one records 4: its steps cost about twice as much
+#: (the time limit counts them so).
+STEP_COST = 2
+#: Where the centres of two spheres are aligned on x, in contact durations after first touch: the
+#: middle of the contact. The line of centres turns during an oblique contact (by ~ v_t T / (R1 + R2));
+#: aligned at the middle it turns symmetrically, from -theta/2 to theta/2, and the lab frame's
+#: x and y (the conventions' fixed normal and tangent) stay closest to the contact's. Measured, alumina
+#: at 60 deg (R = 2.5 mm, V = 3.9 m/s, mu = 0.092): aligned at first touch, eps_n and dv_t in the lab
+#: frame are off by 8.5e-3 and 2.9e-2; aligned at the middle, by 4.2e-4 and 7.0e-4.
+ALIGN = 0.5
+
+
+@dataclass(frozen=True)
+class _Run:
+    """An `ObliqueRun` as the driven sweep's machinery sees a run: its name, engine, case and steps."""
+
+    run: ObliqueRun
+
+    @property
+    def name(self) -> str:
+        return self.run.name
+
+    @property
+    def engine(self) -> str:
+        return self.run.normal.engine
+
+    @property
+    def case(self) -> str:
+        return self.run.normal.case
+
+    def steps(self) -> int:
+        return STEP_COST * self.run.normal.steps()
+
+
+def _material(body, which: str) -> tuple[float, float]:
+    if body.young is None or body.poisson is None:
+        raise ValueError(f"an oblique YADE run needs {which}'s Young's modulus and Poisson's ratio (G* needs "
+                         f"them); the case gives E* alone")
+    if not math.isfinite(body.young):
+        raise ValueError(f"YADE's Hertz-Mindlin cannot express a rigid {which} (Young's modulus inf): give it "
+                         f"its own modulus")
+    return body.young, body.poisson
+
+
+def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None) -> dict:
+    """The numbers of one oblique run for the deck (SI); `stiffness_scale` (a check's knob, not a
+    study run's): YADE's tangential stiffness k_so multiplied by it."""
+    run = spec.run
+    normal = run.normal
+    p = normal.pair
+    state = normal.initial_state()
+    young1, poisson1 = _material(p.body_1, "body 1")
+    young2, poisson2 = _material(p.body_2, "the plane" if p.body_2.is_plane else "body 2")
+    turn = run.initial_velocities()
+    # Two spheres' centres are aligned on x in the middle of the contact (ALIGN): the bodies touch a gap
+    # (GAP_STEPS + START_PHASE steps) after t = 0, and the elastic contact lasts T_e.
+    t_align = normal.initial_gap() / normal.velocity + ALIGN * normal.scales["T_e"]
+    entry = {"name": run.name, "geometry": p.geometry, "law": normal.law, "out": str(out), **state,
+             "young1": young1, "poisson1": poisson1, "young2": young2, "poisson2": poisson2,
+             "friction": run.friction, "betas": run.damping_ratio, **turn,
+             "y1": -turn["vy1"] * t_align, "y2": -turn["vy2"] * t_align, "M": p.M}
+    if stiffness_scale is not None:
+        entry["kso_scale"] = stiffness_scale
+    return entry
+
+
+def _oblique_dump(engine, spec: _Run, entry, st, raw: Path, workdir: Path, log, version, driver: Path) -> Path:
+    run = spec.run
+    if not st["ok"]:
+        raise EngineRunFailed(run.name, f"{engine}: {st['error']}", log)
+    try:
+        data = np.loadtxt(raw, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, ValueError) as err:
+        raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
+    if data.shape[0] < 3 or data.shape[1] != len(OBLIQUE_COLUMNS):
+        raise EngineRunFailed(run.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} columns",
+                              log)
+    if not np.all(np.isfinite(data)):
+        row = int(np.nonzero(~np.all(np.isfinite(data), axis=1))[0][0])
+        raise EngineRunFailed(run.name, f"the engine produced NaN or inf (record row {row + 1})", log)
+    try:
+        collision_metrics(*data[:, :4].T, impact_velocity=run.normal.velocity)
+    except ExtractionError as err:
+        raise EngineRunFailed(run.name, str(err), log)
+    meta = {"engine": engine, "engine_version": version, "deck": driver.name, "deck_sha256": file_sha256(driver),
+            "engine_variables": {k: v for k, v in entry.items() if k != "out"}}
+    dump = workdir / f"{run.name}.csv"
+    write_dump(dump, {**meta, **run.metadata()}, data)
+    raw.unlink()
+    return dump
+
+
+def run_yade_oblique(runs: list[ObliqueRun], workdir, executable: str = EXECUTABLE,
+                     timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, stiffness_scale: float | None = None) -> Sweep:
+    """Run every oblique run in one YADE process; write `workdir/<run.name>.csv` (8 columns) for each.
+
+    Raises EngineMissing if YADE is not installed, ValueError for a run YADE's deck cannot express
+    (bodies without Young's modulus and Poisson's ratio, a rigid plane). A run that fails (a normal law
+    other than `elastic`, no collision, NaN) is an EngineRunFailed in the returned `Sweep`; a YADE that
+    stops fails the run in progress as `engines.yade.run_yade` does. `stiffness_scale` (for the checks
+    that the deck's stiffness reaches the result): every run's k_so times it, the contact created before
+    the bodies touch so that it holds from the first step (None: YADE's own, the contact created by
+    the collider).
+    """
+    exe = require_executable("yade", executable)
+    specs = [_Run(r) for r in runs]
+    files = prepare_sweep("yade", specs, workdir, partial(job_entry, stiffness_scale=stiffness_scale))
+    cmd = [exe, "-n", "-x", str(DRIVER), f"job={files.job}"]
+    limit = time_limit("yade", specs, timeout_floor_s)
+    done = run_logged(cmd, files.log, limit, cwd=files.workdir, env={"PYTHONUNBUFFERED": "1"})
+    return collect_sweep("yade", "YADE", exe, specs, files, done, limit, DRIVER, make_dump=_oblique_dump)
