@@ -149,6 +149,7 @@ def deck_variables(job: _Job, out: Path, decks: Path) -> dict[str, str]:
     and spins, the contact model, the record and the owners file."""
     run = job.run
     var = {**common_variables(run.normal), **{k: number(v) for k, v in run.initial_velocities().items()},
+           **{k: number(v) for k, v in run.initial_positions().items()},
            **contact_words(run, job.stiffness_factor), "out": str(out), "owners": str(owners_file(out))}
     for i, body in ((1, run.pair.body_1), (2, run.pair.body_2)):
         if not body.is_plane:

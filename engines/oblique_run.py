@@ -11,7 +11,8 @@ Conventions (docs/physics.md, "Oblique impacts"): the normal n = +x points from 
 2; body 1 approaches with normal velocity v_n > 0; the tangential direction is +y; spins are
 about +z (counter-clockwise positive). For two spheres the initial velocities are split in the
 centre-of-mass frame, tangential as normal (`initial_velocities`); body 2 does not spin at the
-start. The contact point's slip velocity is
+start, and they start offset along y so that their centres lie on the x axis when they touch
+(`initial_positions`). The contact point's slip velocity is
 
     v_s = (v_y1 + R1 w1) - (v_y2 - R2 w2)    [m/s]
 
@@ -118,9 +119,26 @@ class ObliqueRun:
         return {"vy1": self.tangential_velocity * m2 / (m1 + m2), "vy2": -self.tangential_velocity * m1 / (m1 + m2),
                 "w1": self.spin, "w2": 0.0}
 
+    def touching_time(self) -> float:
+        """When the bodies touch [s]: the head-on run's gap closed at the normal velocity
+        (`RunSpec.initial_gap`, GAP_STEPS + START_PHASE steps)."""
+        return self.normal.initial_gap() / self.normal.velocity
+
+    def initial_positions(self) -> dict[str, float]:
+        """The bodies' y positions at t = 0 [m] (x: `RunSpec.initial_state`): two spheres start
+        offset along y so that their centres are aligned on the x axis when they touch, at the
+        planned time and phase of the step grid (`touching_time`). The line of centres then turns
+        during the contact (by about v_t T / (R1 + R2)): the reference follows it
+        (`reference.solve_oblique`, which starts at touching with the centres on x). The plane: y1 = 0."""
+        if self.pair.body_2.is_plane:
+            return {"y1": 0.0}
+        v, t = self.initial_velocities(), self.touching_time()
+        return {"y1": -v["vy1"] * t, "y2": -v["vy2"] * t}
+
     def metadata(self) -> dict:
         """The run's parameters recorded in every dump header: the head-on run's and these."""
         return {**self.normal.metadata(), "tangential_model": self.model, "friction": self.friction,
                 "tangential_velocity": self.tangential_velocity, "spin": self.spin,
                 "damping_ratio": self.damping_ratio, "ranks": self.ranks, "angle": self.angle,
-                "oblique_ladder": self.ladder, **{f"initial_{k}": v for k, v in self.initial_velocities().items()}}
+                "oblique_ladder": self.ladder, **{f"initial_{k}": v for k, v in self.initial_velocities().items()},
+                **{f"initial_{k}": v for k, v in self.initial_positions().items()}}

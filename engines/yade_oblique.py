@@ -32,13 +32,6 @@ DRIVER = Path(__file__).resolve().parents[1] / "cases" / "decks" / "yade" / "obl
 #: The deck records 8 columns where the head-on one records 4: its steps cost about twice as much
 #: (the time limit counts them so).
 STEP_COST = 2
-#: Where the centres of two spheres are aligned on x, in contact durations after first touch: the
-#: middle of the contact. The line of centres turns during an oblique contact (by ~ v_t T / (R1 + R2));
-#: aligned at the middle it turns symmetrically, from -theta/2 to theta/2, and the lab frame's
-#: x and y (the conventions' fixed normal and tangent) stay closest to the contact's. Measured, alumina
-#: at 60 deg (R = 2.5 mm, V = 3.9 m/s, mu = 0.092): aligned at first touch, eps_n and dv_t in the lab
-#: frame are off by 8.5e-3 and 2.9e-2; aligned at the middle, by 4.2e-4 and 7.0e-4.
-ALIGN = 0.5
 
 
 @dataclass(frozen=True)
@@ -83,13 +76,11 @@ def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None) -> di
     young1, poisson1 = _material(p.body_1, "body 1")
     young2, poisson2 = _material(p.body_2, "the plane" if p.body_2.is_plane else "body 2")
     turn = run.initial_velocities()
-    # Two spheres' centres are aligned on x in the middle of the contact (ALIGN): the bodies touch a gap
-    # (GAP_STEPS + START_PHASE steps) after t = 0, and the elastic contact lasts T_e.
-    t_align = normal.initial_gap() / normal.velocity + ALIGN * normal.scales["T_e"]
+    # Two spheres' centres lie on the x axis when they touch (ObliqueRun.initial_positions).
     entry = {"name": run.name, "geometry": p.geometry, "law": normal.law, "out": str(out), **state,
              "young1": young1, "poisson1": poisson1, "young2": young2, "poisson2": poisson2,
-             "friction": run.friction, "betas": run.damping_ratio, **turn,
-             "y1": -turn["vy1"] * t_align, "y2": -turn["vy2"] * t_align, "M": p.M}
+             "friction": run.friction, "betas": run.damping_ratio, **turn, "y2": 0.0,
+             **run.initial_positions(), "M": p.M}
     if stiffness_scale is not None:
         entry["kso_scale"] = stiffness_scale
     return entry

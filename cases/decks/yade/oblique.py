@@ -37,10 +37,10 @@
 # (tests/test_engine_yade_oblique.py). The slip velocity's arm (ScGeom::getIncidentVel: R_i with the
 # ratcheting correction, the default) matters only while the contact sticks; not measured here.
 #
-# Two spheres: the centres start offset in y (the host's y1, y2) so that they are aligned on the x axis
-# in the middle of the contact (engines/yade_oblique.py, ALIGN): the contact normal turns with the
-# centres' relative motion during the contact (by ~ v_t T / (R1 + R2), from about -theta/2 to theta/2),
-# which the study's fixed normal does not; the columns are the lab frame's x and y components (the
+# Two spheres: the centres start offset in y (the host's y1, y2) so that they lie on the x axis when
+# the spheres touch (engines/oblique_run.py, ObliqueRun.initial_positions); the contact normal then
+# turns with the centres' relative motion (by ~ v_t T / (R1 + R2)), as the reference's does. The columns
+# are the lab frame's x and y components (the
 # conventions' normal +x and tangent +y), the overlap YADE's own R1 + R2 - |x2 - x1|.
 #
 # Time: YADE's leapfrog keeps velocities at half steps. At the recorder after the InteractionLoop of
