@@ -111,6 +111,8 @@ T_HANDOVER = 0.25
 DELTA_HANDOVER = 0.5
 #: The time [delta_e / v_n] at which the first phase (stick or slip) is decided.
 T_START = 1e-12
+#: sqrt(delta/delta_e) below which the transitions are not followed (see _integrate).
+U_END = 1e-6
 #: More transitions than this in one collision means a chattering model (or a bug): refused.
 MAX_PIECES = 400
 #: Samples per piece on which the maxima of F_n and |F_t| are bracketed before Brent refines them.
@@ -205,7 +207,7 @@ class _Model:
             F_c = max(F_n, 0.0)
         else:
             F_c = F_el_n
-        cap = self.mu * F_c
+        cap = math.inf if self.mu == math.inf else self.mu * F_c  # mu = inf: no cap, not inf * 0
         k_t = self.k_t0 * a if f.stiffness == "mindlin" else self.k_t0
         L1s, L1t = self.R1 - self.sh1s * d, self.R1 - self.sh1t * d
         L2s, L2t = self.R2 - self.sh1s * d, self.R2 - self.sh1t * d
@@ -296,7 +298,7 @@ class _Model:
             H0 = -self.k_t0 * v_s0 * t0
         y0 = np.array([self.v_n * t0, self.v_n, self.v_t, self.w1, 0.0, 0.0, H0])
         q = self.local(y0, False, 0.0)
-        if q["X"] ** 2 > q["cap"] ** 2:
+        if q["X"] ** 2 > q["cap"] ** 2 or self.mu == 0.0:
             return True, math.copysign(1.0, q["X"])
         return False, 0.0
 
@@ -325,7 +327,7 @@ def solve_oblique(*, geometry: str, R1: float, m1: float, R2: float, m2: float, 
     clipped : bool
         The normal force clipped at zero (F0 physics), else the attractive tail is kept.
     mu : float
-        Friction coefficient [-].
+        Friction coefficient [-] (``math.inf``: no cap, the contact sticks throughout).
     form : TangentialForm
         The tangential model.
     v_n : float
@@ -452,9 +454,10 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
         fired = [(sol.t_events[i][0], names[i], sol.y_events[i][0]) for i in range(len(events))
                  if len(sol.t_events[i])]
         pieces.append((kind, sol.sol, sliding, s, w0, sol.t[-1]))
-        # an event function that vanishes with delta (every margin does) may fire at u = 0 itself:
-        # that is the end of the contact, not a transition
-        fired = [e for e in fired if not (kind == "u" and e[0] <= 1e-12)]
+        # Every margin vanishes with delta, and may fire at u = 0 itself, or chatter just before it
+        # (X and C both -> 0): transitions within the last U_END^2 delta_e of the overlap are not
+        # followed; the forces there are < ~U_END F_e over ~U_END^2 t_e, an impulse < 1e-18 F_e t_e.
+        fired = [e for e in fired if not (kind == "u" and e[0] <= U_END)]
         if not fired:
             t, y = phys(sol.t[-1], sol.y[:, -1])
             if kind == "s":
@@ -495,10 +498,12 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
     v_s_after = (vy1 + model.R1 * w1) - (vy2 - R2 * w2)
     e_t = v_s_after / model.v_s0 if model.v_s0 != 0.0 else math.nan
     F_max, Ft_max = _maxima(model, pieces, scale, t_e, delta_e)
-    return ObliqueResult(T=(T_F0 if model.clipped else T_x0), T_x0=T_x0, T_F0=T_F0, eps=eps, delta_max=delta_max,
-                         F_max=F_max, vt_after=vy1, omega_after=w1, vt2_after=vy2, omega2_after=w2, e_t=e_t,
-                         rebound_angle=math.degrees(math.atan2(v_s_after, eps * model.v_n)), Ft_max=Ft_max,
-                         phases=tuple(phases), history_after=float(y[6]))
+    phases = tuple((name, float(t)) for name, t in phases)
+    return ObliqueResult(T=float(T_F0 if model.clipped else T_x0), T_x0=float(T_x0), T_F0=float(T_F0),
+                         eps=float(eps), delta_max=float(delta_max), F_max=float(F_max), vt_after=float(vy1),
+                         omega_after=float(w1), vt2_after=float(vy2), omega2_after=float(w2), e_t=float(e_t),
+                         rebound_angle=math.degrees(math.atan2(v_s_after, eps * model.v_n)), Ft_max=float(Ft_max),
+                         phases=phases, history_after=float(y[6]))
 
 
 def _maxima(model, pieces, scale, t_e, delta_e) -> tuple[float, float]:
