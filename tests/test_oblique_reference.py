@@ -4,9 +4,9 @@ against what is known without them:
 - an independent integration written here (DOP853 in t alone from touching to delta = 0, its own
   force law, stick -> slip on |X| - C, slip -> stick from a central finite-difference probe of
   the sticking flow rather than the module's analytic rates): agreement to 1e-8 relative in
-  vt_after, omega_after, e_t, T and eps (measured: 1e-13 to 1.4e-10), and in the phase times to
-  1e-8 of the contact time (measured: < 5e-9; the independent one, in t from touching, is the
-  less accurate near t = 0);
+  vt_after, omega_after, e_t, T and eps (measured: 3e-15 to 1.5e-11), and in the phase times to
+  1e-8 of the contact time (measured: < 1e-11 of it; the independent one, in t from touching, is
+  the less accurate near t = 0);
 - the discrete algorithm of the engines (velocity Verlet, history advanced as if sticking, trial
   force, cap, history reset; `cap_force`) as dt -> 0, four forms: it converges to solve_oblique;
 - the closed forms: a contact that slides throughout (rigid_body_sliding, to 1e-10), mu = 0, the
@@ -25,10 +25,11 @@ from reference.tangential_forms import cap_force
 
 pytestmark = pytest.mark.unit
 
-# Alumina (the gross-sliding case of the brief): a sphere on a plane of the same material.
+# Alumina: a sphere on a plane of the same material, 1/E* = 2(1 - nu^2)/E and
+# 1/G* = 2(2 - nu)/G = 4(2 - nu)(1 + nu)/E (Mindlin's k_t = 8 a / ((2 - nu1)/G1 + (2 - nu2)/G2)).
 E, NU, RHO, R = 380e9, 0.23, 4000.0, 2.5e-3
 E_STAR = E / (2 * (1 - NU ** 2))
-G_STAR = E / (2 * (2 - NU) * (1 + NU))
+G_STAR = E / (4 * (2 - NU) * (1 + NU))
 MASS = RHO * 4 / 3 * math.pi * R ** 3
 V, MU = 3.9, 0.092
 
@@ -128,12 +129,26 @@ class Independent:
         return y
 
     def probe(self, y, mode, h):
-        """s dX/dt - dC/dt along the sticking flow, by central differences of step h [s]."""
+        """s dX/dt - dC/dt along the sticking flow, by second-order differences of step h [s]:
+        central, or one-sided where the stencil would straddle the normal force's zero (|F_n| and
+        max(F_n, 0) have a kink there)."""
         ys = self.stuck(y, mode)
         g = self.rhs(0.0, ys, 0)
-        _, _, Xp, Cp, *_ = self.forces(ys + h * g, 0)
-        _, _, Xm, Cm, *_ = self.forces(ys - h * g, 0)
-        return (mode * (Xp - Xm) - (Cp - Cm)) / (2 * h)
+
+        def margin(k):
+            _, _, X, C, *_ = self.forces(ys + k * h * g, 0)
+            return mode * X - C
+
+        def side(k):
+            d = max(ys[0] + k * h * g[0], 0.0)
+            return self.kn * d ** 1.5 + 2 * self.c["eta"] * math.sqrt(self.c["R_star"] * d) * (ys[1] + k * h * g[1]) > 0
+
+        here = side(0)
+        if side(1) != here or side(2) != here:
+            return (3 * margin(0) - 4 * margin(-1) + margin(-2)) / (2 * h)
+        if side(-1) != here or side(-2) != here:
+            return (-3 * margin(0) + 4 * margin(1) - margin(2)) / (2 * h)
+        return (margin(1) - margin(-1)) / (2 * h)
 
     def solve(self):
         c = self.c
@@ -163,7 +178,7 @@ class Independent:
                 change.direction = 1
             else:
                 def change(t, y, m=mode):
-                    return self.probe(y, m, h) if y[0] > h * c["v_n"] else 1.0
+                    return self.probe(y, m, h) if y[0] > 2 * h * c["v_n"] else 1.0
                 change.direction = -1
             change.terminal = True
             evs.append(change)
@@ -305,12 +320,12 @@ def test_the_discrete_algorithm_converges_to_it(name):
     the slip -> stick conditions derived for the continuous limit are those the discrete cap has.
 
     Measured (error in the velocity change at 1000, 2000, 4000, 8000 steps a Hertz time): lammps
-    1.4e-5, 3.2e-6, 8.8e-7, 1.4e-7 (order 2, no dashpot), liggghts 1.4e-4 ... 1.8e-5 and the
-    rescaled force history 2.6e-3 ... 3.3e-4 (order 1: the dashpots' half-step velocities); there
-    the Richardson extrapolation of 1000-4000 at the measured order is three times closer than
-    4000 steps. YADE's stick_only form has a jump of F_t at every transition (its damping switches
-    off), so its error changes sign with where a transition falls in a step (-6.9e-5, 2.5e-5,
-    -5.7e-6, 1.1e-5): only its fall is checked."""
+    5.6e-5, 1.0e-5, 2.5e-6, 5.7e-7 (order 2, no dashpot), liggghts 7.9e-5 ... 1.0e-5 and the
+    rescaled force history 3.5e-3 ... 4.4e-4 (order 1: the dashpots' half-step velocities); there
+    the Richardson extrapolation of 2000-8000 at the measured order is three times closer than
+    8000 steps (measured: 9 to 1000 times). YADE's stick_only form has a jump of F_t at every
+    transition (its damping switches off), so its error is not a clean power of dt (4.3e-3, 2.1e-3,
+    9.4e-4, 5.5e-4): only its fall is checked."""
     case = DISCRETE_CASES[name]
     r = solve_oblique(**case)
     errs = []
@@ -318,12 +333,12 @@ def test_the_discrete_algorithm_converges_to_it(name):
         vy, w = discrete(case, steps)
         errs.append(((vy - r.vt_after) / (r.vt_after - case["v_t"]),
                      (w - r.omega_after) / (r.omega_after - case["w1"])))
-    errs = np.abs(np.array(errs)) if name == "yade-10deg" else np.array(errs)
-    assert np.all(np.abs(errs[-1]) < 4e-4) and np.all(np.abs(errs[-1]) < np.abs(errs[0]) / 4), errs
+    errs = np.array(errs)
+    assert np.all(np.abs(errs[-1]) < 1e-3) and np.all(np.abs(errs[-1]) < np.abs(errs[0]) / 4), errs
     if name != "yade-10deg":
-        p = np.log2((errs[0] - errs[1]) / (errs[1] - errs[2]))
-        extrapolated = errs[2] + (errs[2] - errs[1]) / (2 ** p - 1)
-        assert np.all(np.abs(extrapolated) < np.abs(errs[2]) / 3), (errs, p)
+        p = np.log2((errs[1] - errs[2]) / (errs[2] - errs[3]))
+        extrapolated = errs[3] + (errs[3] - errs[2]) / (2 ** p - 1)
+        assert np.all(np.abs(extrapolated) < np.abs(errs[3]) / 3), (errs, p)
 
 
 # --- closed forms ----------------------------------------------------------------------------------
@@ -414,12 +429,13 @@ def test_the_first_phase_is_mindlins_initial_ratio(history, factor):
 
 
 def test_small_angles_have_a_stick_phase():
-    """5 degrees: slip at touching (ratio 0.23 > mu), stick around the maximum compression, slip
-    again as the load falls (Maw, Barber & Fawcett's sequence), and the contact point rebounds
-    reversed or slowed: |e_t| < 1."""
-    r = solve_oblique(**plane_case(5))
-    assert [p for p, _ in r.phases] == ["slip", "stick", "slip"]
-    assert abs(r.e_t) < 1
+    """5 degrees: slip at touching (initial ratio 0.114 > mu), then stick, and slip again as the
+    load falls (Maw, Barber & Fawcett's sequence; this model has slip, stick, slip, stick, slip:
+    the tangential force reverses), the phases alternating; at 10 degrees slip, stick, slip."""
+    phases = [p for p, _ in solve_oblique(**plane_case(5)).phases]
+    assert phases[:3] == ["slip", "stick", "slip"] and phases[-1] == "slip"
+    assert all(a != b for a, b in zip(phases, phases[1:]))
+    assert [p for p, _ in solve_oblique(**plane_case(10)).phases] == ["slip", "stick", "slip"]
 
 
 @pytest.mark.parametrize("clipped", [False, True])
