@@ -1,0 +1,577 @@
+r"""One oblique collision with friction and rotation, solved with a model's own equations.
+
+A sphere (body 1) meets a sphere or a plane (body 2) in the x-y plane; the tangential contact
+model is a `reference.tangential_forms.TangentialForm`. `solve_oblique` integrates the
+continuous limit (dt -> 0) of the model's discrete algorithm to ~1e-10 relative and returns an
+`ObliqueResult`; `rigid_body_sliding` is the closed form of a contact that slides throughout.
+
+Conventions (docs/physics.md, "Oblique impacts: sign conventions")
+------------------------------------------------------------------
+The normal n = +x points from body 1 to body 2; body 1 approaches with the normal velocity
+v_n > 0, so the overlap delta has d(delta)/dt = v_n at touching. The tangent is +y, spins are
+about +z (counter-clockwise positive). The contact point lies at +L_1 x from centre 1 and at
+-L_2 x from centre 2 (L_i the arms of `TangentialForm.lever_slip`), so its slip velocity is::
+
+    v_s = (v_y1 + L_1 w_1) - (v_y2 - L_2 w_2)                      [m/s]
+
+The tangential force on body 1 is F_t y, on body 2 -F_t y; the torques (arms of `lever_torque`)
+are (L_1 x) x (F_t y) = L_1 F_t z on body 1 and (-L_2 x) x (-F_t y) = L_2 F_t z on body 2, so::
+
+    dv_s/dt = F_t (1/m_1 + L_1 L'_1/I_1 + 1/m_2 + L_2 L'_2/I_2) + (dL_1/dt) w_1 + (dL_2/dt) w_2
+
+with a positive factor of F_t: a force against the slip (F_t v_s < 0) reduces |v_s|. A plane has
+1/m_2 = 1/I_2 = 0 and does not move.
+
+Normal half: the Hertz force with the Brilliantov dissipative term::
+
+    F_n = k_n delta^{3/2} + eta_n d(delta)/dt,   k_n = (4/3) E* sqrt(R*),   eta_n = 2 eta a,
+
+a = sqrt(R* delta) [m] the contact radius, so eta_n [N s/m] is the coefficient of d(delta)/dt,
+2 eta sqrt(R*) delta^{1/2}; M* d^2(delta)/dt^2 = -F_n. ``clipped`` uses max(F_n, 0) (the bodies
+separate at F0 and fly apart; the contact itself lasts until delta = 0). The normal motion does
+not depend on the tangential one.
+
+Tangential half, sticking: the history H (xi [m] or F_h [N]) follows::
+
+    dxi/dt  = v_s            + r xi (da/dt)/a          F_el = -k_t xi
+    dF_h/dt = -k_t v_s       + r F_h (da/dt)/a         F_el = F_h
+    F_t = F_el - eta_t v_s
+
+with r = 1 while rescaling (``rescale`` and da/dt < 0), else 0. For both histories the elastic
+force moves as::
+
+    dF_el/dt = -k_t v_s + (c_k + r) F_el (da/dt)/a,    (da/dt)/a = d(delta)/dt / (2 delta)
+
+with c_k = 1 for a displacement history with a Mindlin stiffness (k_t = k_t0 a changes under a
+fixed xi: -dk_t/dt xi = F_el (da/dt)/a), else 0.
+
+Sliding, and the conditions of the transitions
+----------------------------------------------
+Let X be the quantity the cap limits: X = F_el - eta_t v_s (cap ``total``) or X = F_el (cap
+``elastic``), and C = mu F_c the cap. The discrete algorithm advances the history as if sticking,
+then projects it back onto |X| <= C. Its limit dt -> 0 is a sweeping process:
+
+- stick -> slip when |X| reaches C: the event C^2 - X^2 = 0, crossed downwards;
+- while sliding, X = s C with s = sign(X) fixed (the history is algebraic: F_el = s C + eta_t v_s
+  under the total cap, F_el = s C under the elastic cap), and the force is F_t = s C (total) or
+  F_t = s C - eta_t v_s (elastic; without the damping for ``stick_only``);
+- the slide goes on while the free (sticking) evolution of X would carry it out of the cap,
+  s dX_free/dt > dC/dt: each step's projection is then active. It turns to sticking where
+  g = s dX_free/dt - dC/dt crosses zero downwards: from there, the free evolution stays inside.
+
+The free rate, with the history where the slide holds it:
+
+- elastic cap: dX_free/dt = dF_el/dt above, with F_el = s C;
+- total cap: dX_free/dt = dF_el/dt - (d eta_t/dt) v_s - eta_t dv_s/dt, with F_el = s C + eta_t v_s,
+  d eta_t/dt = eta_t d(delta)/dt/(2 delta), and dv_s/dt from F_t = s C (the force of the slide:
+  X is continuous at the transition, so is F_t).
+
+The cap's rate: dC/dt = mu (3/2) k_n delta^{1/2} d(delta)/dt (``elastic`` F_c), or, with
+dF_n/dt = (3/2) k_n delta^{1/2} d(delta)/dt + eta sqrt(R*) delta^{-1/2} (d(delta)/dt)^2
++ 2 eta sqrt(R*) delta^{1/2} d^2(delta)/dt^2, mu dF_n/dt (``total_clipped``, 0 where F_n <= 0) or
+mu sign(F_n) dF_n/dt (``total_abs``). Both event functions are multiplied by delta^{1/2} (> 0),
+which removes the delta^{-1/2} of the rates at touching and leaves the sign, hence the event.
+
+At touching X and C are both zero; the first phase is that of the limit t -> 0 of |X|/C along
+the sticking motion (delta = v_n t, H from v_s t): for a Mindlin displacement history without
+damping it is (6 G*/E*) |v_s|/v_n, and the contact slides from the start iff that exceeds mu.
+It is evaluated at t = 1e-12 delta_e/v_n, where the corrections are ~1e-12.
+
+How it is integrated
+--------------------
+delta^{1/2} is not smooth at either end of the contact, so, as in `reference.collision_ode`, the
+integration variable changes: s = sqrt(t) from touching to t = delta_e/(4 v_n) (delta ~ v_n s^2
+is smooth in s), t through the maximum compression down to delta = delta_max/2, then
+u = sqrt(delta) to u = 0 (dt/du = 2u/(d delta/dt), d(delta)/dt < 0 there). Each piece is scipy's
+DOP853 at rtol 1e-12 on variables scaled to O(1) (delta_e, v, ...). The stick/slip transitions,
+the maximum compression, the normal force's zero (where max(F_n, 0) and |F_n| have a kink) and the
+hand-over points are terminal events located on the dense output (Brent to 4 ulp), and the
+integration restarts there: no step straddles a kink. The maxima of F_n and |F_t| are found on the
+dense output (bounded Brent). tests/test_oblique_reference.py checks it against an independent
+integration (DOP853 in t alone, events from a finite-difference probe of the free evolution),
+against the discrete LAMMPS-like algorithm as dt -> 0, and against the closed forms.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar
+
+from .tangential_forms import TangentialForm, lever_share
+
+RTOL = 1e-12
+ATOL = 1e-14
+#: Where the first piece (in sqrt(t)) ends [delta_e / v_n], unless the maximum compression comes first.
+T_HANDOVER = 0.25
+#: Where the piece in t hands over to the piece in sqrt(delta): delta = this share of delta_max.
+DELTA_HANDOVER = 0.5
+#: The time [delta_e / v_n] at which the first phase (stick or slip) is decided.
+T_START = 1e-12
+#: sqrt(delta/delta_e) below which the transitions are not followed (see _integrate).
+U_END = 1e-6
+#: More transitions than this in one collision means a chattering model (or a bug): refused.
+MAX_PIECES = 400
+#: Samples per piece on which the maxima of F_n and |F_t| are bracketed before Brent refines them.
+SAMPLES = 24
+
+
+@dataclass(frozen=True)
+class ObliqueResult:
+    r"""One oblique collision (`solve_oblique`), SI units.
+
+    Attributes
+    ----------
+    T : float
+        Contact time [s] under the law's criterion: F0 (the normal force returns to zero) when
+        clipped, x0 (delta returns to zero) when not.
+    T_x0, T_F0 : float
+        Time [s] at which delta, and the unclipped normal force, return to zero (T_F0 = T_x0
+        without normal damping).
+    eps : float
+        Normal restitution -v_n'/v_n [-] (v_n' the normal relative velocity at separation).
+    delta_max : float
+        Maximum overlap [m].
+    F_max : float
+        Maximum normal force [N].
+    vt_after, omega_after : float
+        Body 1's centre velocity along +y [m/s] and spin about +z [rad/s] after the contact.
+    vt2_after, omega2_after : float
+        The same for body 2 (0 for a plane).
+    e_t : float
+        Tangential restitution of the contact point v_s'/v_s [-] (positive when the slip keeps its
+        direction; nan without initial slip). At separation every arm is R.
+    rebound_angle : float
+        atan2(v_s', v_n') [degrees], v_n' = eps v_n the normal separation speed.
+    Ft_max : float
+        Maximum |F_t| over the contact [N].
+    phases : tuple of (str, float)
+        ("stick" | "slip", start time [s]) of each phase, in order.
+    history_after : float
+        The history left at delta = 0: xi [m] or F_h [N].
+    """
+
+    T: float
+    T_x0: float
+    T_F0: float
+    eps: float
+    delta_max: float
+    F_max: float
+    vt_after: float
+    omega_after: float
+    vt2_after: float
+    omega2_after: float
+    e_t: float
+    rebound_angle: float
+    Ft_max: float
+    phases: tuple
+    history_after: float
+
+
+class _Model:
+    """The contact's constants and its right-hand side in physical variables.
+
+    The physical state is y = (delta, d delta/dt, v_y1, w_1, v_y2, w_2, H); the mode is
+    (sliding, s). Every method is a pure function of (y, mode)."""
+
+    def __init__(self, p: dict):
+        self.__dict__.update(p)
+        self.k_n = 4.0 / 3.0 * self.E_star * math.sqrt(self.R_star)
+        self.c_eta = 2.0 * self.eta * math.sqrt(self.R_star)  # eta_n = c_eta delta^{1/2}
+        f = self.form
+        self.c_k = 1.0 if (f.history == "displacement" and f.stiffness == "mindlin") else 0.0
+        self.sh1s, self.sh1t = lever_share(f.lever_slip), lever_share(f.lever_torque)
+        # a plane does not move: its inverse mass and inertia are zero, and so are its arms' terms
+        self.im1, self.iI1 = 1.0 / self.m1, 1.0 / self.I1
+        self.im2 = 0.0 if self.plane else 1.0 / self.m2
+        self.iI2 = 0.0 if self.plane else 1.0 / self.I2
+
+    def local(self, y, sliding: bool, s: float) -> dict:
+        """Every force and rate at state y in mode (sliding, s)."""
+        d, dd, vy1, w1, vy2, w2, H = y
+        f = self.form
+        d = max(d, 0.0)
+        rd = math.sqrt(d)
+        a = math.sqrt(self.R_star) * rd
+        F_el_n = self.k_n * d * rd
+        eta_n = self.c_eta * rd
+        F_raw = F_el_n + eta_n * dd
+        F_n = max(F_raw, 0.0) if self.clipped else F_raw
+        ddd = -F_n / self.M_star
+        if f.cap_normal == "total_abs":
+            F_c = abs(F_n)
+        elif f.cap_normal == "total_clipped":
+            F_c = max(F_n, 0.0)
+        else:
+            F_c = F_el_n
+        cap = math.inf if self.mu == math.inf else self.mu * F_c  # mu = inf: no cap, not inf * 0
+        k_t = self.k_t0 * a if f.stiffness == "mindlin" else self.k_t0
+        L1s, L1t = self.R1 - self.sh1s * d, self.R1 - self.sh1t * d
+        L2s, L2t = self.R2 - self.sh1s * d, self.R2 - self.sh1t * d
+        if self.plane:
+            L2s = L2t = 0.0
+        v_s = (vy1 + L1s * w1) - (vy2 - L2s * w2)
+        eta_stick = 0.0 if f.damping == "none" else self.x_t * eta_n
+        eta_slide = 0.0 if f.damping == "stick_only" else eta_stick
+        if not sliding:
+            F_el = -k_t * H if f.history == "displacement" else H
+            F_t = F_el - eta_stick * v_s
+            X = F_t if f.cap == "total" else F_el
+        elif f.cap == "total":
+            F_t = s * cap
+            F_el = F_t + eta_stick * v_s
+            X = F_t
+        else:
+            F_el = s * cap
+            F_t = F_el - eta_slide * v_s
+            X = F_el
+        return dict(d=d, rd=rd, dd=dd, ddd=ddd, a=a, F_el_n=F_el_n, F_raw=F_raw, F_n=F_n, F_c=F_c, cap=cap,
+                    k_t=k_t, L1s=L1s, L1t=L1t, L2s=L2s, L2t=L2t, w1=w1, w2=w2, v_s=v_s, eta_stick=eta_stick,
+                    F_el=F_el, F_t=F_t, X=X)
+
+    def rates(self, y, sliding: bool, s: float, q: dict | None = None) -> np.ndarray:
+        """dy/dt."""
+        q = q or self.local(y, sliding, s)
+        F_t = q["F_t"]
+        dH = 0.0
+        if not sliding:  # while sliding the history is algebraic (set at the transitions)
+            dH = q["v_s"] if self.form.history == "displacement" else -q["k_t"] * q["v_s"]
+            if self.form.rescale and q["dd"] < 0.0 and q["d"] > 0.0:
+                dH += y[6] * q["dd"] / (2.0 * q["d"])
+        return np.array([q["dd"], q["ddd"],
+                         F_t * self.im1, q["L1t"] * F_t * self.iI1,
+                         -F_t * self.im2, q["L2t"] * F_t * self.iI2, dH])
+
+    def cap_rate_scaled(self, q: dict) -> float:
+        """delta^{1/2} dC/dt, C = mu F_c [N/s m^{1/2}]."""
+        rd, dd = q["rd"], q["dd"]
+        if self.form.cap_normal == "elastic":
+            return self.mu * 1.5 * self.k_n * rd * rd * dd
+        if self.clipped and q["F_raw"] <= 0.0:
+            return 0.0
+        dF = 1.5 * self.k_n * rd * rd * dd + 0.5 * self.c_eta * dd * dd + self.c_eta * rd * rd * q["ddd"]
+        if self.form.cap_normal == "total_clipped":
+            return self.mu * dF if q["F_n"] > 0.0 else 0.0
+        return self.mu * math.copysign(1.0, q["F_n"]) * dF
+
+    def slip_margin(self, y, s: float) -> float:
+        """delta^{1/2} (s dX_free/dt - dC/dt) while sliding: > 0 keeps the slide (module docstring)."""
+        q = self.local(y, True, s)
+        rd, dd = q["rd"], q["dd"]
+        r = 1.0 if (self.form.rescale and dd < 0.0) else 0.0
+        # delta^{1/2} (da/dt)/a = dd / (2 delta^{1/2}); at delta = 0 the history is 0 with the cap
+        half_rate = dd / (2.0 * rd) if rd > 0.0 else 0.0
+        dX = -q["k_t"] * q["v_s"] * rd + (self.c_k + r) * q["F_el"] * half_rate
+        if self.form.cap == "total":
+            F_t = q["F_t"]
+            dv_s = (F_t * (self.im1 + q["L1s"] * q["L1t"] * self.iI1 + self.im2 + q["L2s"] * q["L2t"] * self.iI2)
+                    - self.sh1s * dd * q["w1"] - (0.0 if self.plane else self.sh1s * dd * q["w2"]))
+            dX -= q["eta_stick"] * (half_rate * q["v_s"] + rd * dv_s)
+        return s * dX - self.cap_rate_scaled(q)
+
+    def stick_margin(self, y) -> float:
+        """C^2 - X^2 while sticking: < 0 beyond the cap [N^2]."""
+        q = self.local(y, False, 0.0)
+        return q["cap"] ** 2 - q["X"] ** 2
+
+    def history_at(self, y, sliding: bool, s: float) -> float:
+        """The history that holds the state's elastic force (set when a slide ends)."""
+        q = self.local(y, sliding, s)
+        if self.form.history == "force":
+            return q["F_el"]
+        return -q["F_el"] / q["k_t"] if q["k_t"] > 0.0 else y[6]
+
+    def first_phase(self) -> tuple[bool, float]:
+        """(sliding, s) at touching: the limit t -> 0 of |X|/C along the sticking motion."""
+        t0 = T_START * self.t_e
+        v_s0 = self.v_s0
+        if v_s0 == 0.0:
+            return False, 0.0
+        if self.form.history == "displacement":
+            H0 = v_s0 * t0
+        elif self.form.stiffness == "mindlin":
+            H0 = -self.k_t0 * math.sqrt(self.R_star * self.v_n) * v_s0 * (2.0 / 3.0) * t0 ** 1.5
+        else:
+            H0 = -self.k_t0 * v_s0 * t0
+        y0 = np.array([self.v_n * t0, self.v_n, self.v_t, self.w1, 0.0, 0.0, H0])
+        q = self.local(y0, False, 0.0)
+        if q["X"] ** 2 > q["cap"] ** 2 or self.mu == 0.0:
+            return True, math.copysign(1.0, q["X"])
+        return False, 0.0
+
+
+def solve_oblique(*, geometry: str, R1: float, m1: float, R2: float, m2: float, E_star: float, G_star: float,
+                  R_star: float, M_star: float, eta: float, clipped: bool, mu: float, form: TangentialForm,
+                  v_n: float, v_t: float, w1: float = 0.0, k_t0: float | None = None, x_t: float = 0.0,
+                  I1: float | None = None, I2: float | None = None) -> ObliqueResult:
+    r"""One oblique collision of sphere 1 with a sphere or a plane (body 2, at rest), solved with the
+    model's own equations (module docstring: conventions, transitions, method).
+
+    Parameters
+    ----------
+    geometry : str
+        ``"sphere-sphere"`` or ``"sphere-plane"``.
+    R1, m1 : float
+        Body 1's radius [m] and mass [kg].
+    R2, m2 : float
+        Body 2's radius [m] and mass [kg] (``math.inf`` for a plane; ignored there).
+    E_star, G_star : float
+        Effective Young's and shear moduli [Pa].
+    R_star, M_star : float
+        Effective radius [m] and normal effective mass [kg].
+    eta : float
+        Effective viscosity [Pa s] of the dissipative term 2 eta a d(delta)/dt (0: elastic).
+    clipped : bool
+        The normal force clipped at zero (F0 physics), else the attractive tail is kept.
+    mu : float
+        Friction coefficient [-] (``math.inf``: no cap, the contact sticks throughout).
+    form : TangentialForm
+        The tangential model.
+    v_n : float
+        Normal approach velocity of body 1 [m/s], > 0.
+    v_t : float
+        Body 1's centre velocity along +y at touching [m/s].
+    w1 : float, optional
+        Body 1's spin about +z at touching [rad/s].
+    k_t0 : float, optional
+        The tangential stiffness constant: [Pa] for Mindlin (default 8 G*), [N/m] for linear
+        (required then).
+    x_t : float, optional
+        eta_t / eta_n [-] for the damped forms.
+    I1, I2 : float, optional
+        Moments of inertia [kg m^2]; default (2/5) m R^2 (solid spheres).
+
+    Returns
+    -------
+    ObliqueResult
+        The collision's characteristics; phases lists each stick/slip phase with its start.
+    """
+    if geometry not in ("sphere-sphere", "sphere-plane"):
+        raise ValueError(f"geometry must be 'sphere-sphere' or 'sphere-plane', got {geometry!r}")
+    if not v_n > 0.0:
+        raise ValueError(f"v_n must be > 0 (body 1 approaches), got {v_n}")
+    plane = geometry == "sphere-plane"
+    if k_t0 is None:
+        if form.stiffness != "mindlin":
+            raise ValueError("k_t0 [N/m] is required for a linear tangential stiffness")
+        k_t0 = 8.0 * G_star
+    I1 = 0.4 * m1 * R1 * R1 if I1 is None else I1
+    I2 = (math.inf if plane else 0.4 * m2 * R2 * R2) if I2 is None else I2
+    delta_e = (15.0 * M_star * v_n ** 2 / (16.0 * E_star * math.sqrt(R_star))) ** 0.4
+    t_e = delta_e / v_n
+    model = _Model(dict(plane=plane, R1=R1, m1=m1, R2=(0.0 if plane else R2), m2=m2, I1=I1, I2=I2,
+                        E_star=E_star, G_star=G_star, R_star=R_star, M_star=M_star, eta=eta, clipped=clipped,
+                        mu=mu, form=form, k_t0=k_t0, x_t=x_t, v_n=v_n, v_t=v_t, w1=w1, t_e=t_e,
+                        v_s0=v_t + R1 * w1))
+    V = math.hypot(v_n, v_t + R1 * w1)
+    F_e = model.k_n * delta_e ** 1.5
+    H_scale = V * t_e if form.history == "displacement" else F_e
+    scale = np.array([delta_e, v_n, V, V / R1, V, V / (R1 if plane else R2), H_scale])
+    return _integrate(model, scale, t_e, delta_e)
+
+
+# --- the pieces: three independent variables, one physical state --------------------------------
+
+def _to_phys(kind, w, Y, scale, t_e, delta_e):
+    """(t, y) from the piece's variable w and scaled state Y."""
+    if kind == "s":
+        return t_e * w * w, Y * scale
+    if kind == "t":
+        return t_e * w, Y * scale
+    y = Y * scale
+    t = Y[0] * t_e
+    y[0] = delta_e * w * w
+    return t, y
+
+
+def _from_phys(kind, t, y, scale, t_e, delta_e):
+    """(w, Y) of the piece from (t, y)."""
+    Y = y / scale
+    if kind == "s":
+        return math.sqrt(t / t_e), Y
+    if kind == "t":
+        return t / t_e, Y
+    Y[0] = t / t_e
+    return math.sqrt(max(y[0], 0.0) / delta_e), Y
+
+
+def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
+    sliding, s = model.first_phase()
+    phases = [("slip" if sliding else "stick", 0.0)]
+    kind, t = "s", 0.0
+    y = np.array([0.0, model.v_n, model.v_t, model.w1, 0.0, 0.0, 0.0])
+    delta_max = math.nan
+    T_F0 = math.nan
+    fn_crossed = model.eta == 0.0  # the force zero is an event only with a dissipative term
+    pieces = []  # (kind, sol, sliding, s, w0, w1) for the maxima
+
+    for _ in range(MAX_PIECES):
+        w0, Y0 = _from_phys(kind, t, y, scale, t_e, delta_e)
+        mode = (sliding, s)
+
+        def phys(w, Y, kind=kind):
+            return _to_phys(kind, w, Y, scale, t_e, delta_e)
+
+        def rhs(w, Y, kind=kind, mode=mode):
+            tt, yy = phys(w, Y)
+            dy = model.rates(yy, *mode)
+            if kind == "s":
+                return 2.0 * w * t_e * dy / scale
+            if kind == "t":
+                return t_e * dy / scale
+            dt_du = 2.0 * w * delta_e / yy[1]
+            out = dy * dt_du / scale
+            out[0] = dt_du / t_e
+            return out
+
+        events, names = [], []
+
+        def add(name, fun, direction=-1.0):
+            def ev(w, Y):
+                return fun(*phys(w, Y))
+            ev.terminal, ev.direction = True, direction
+            events.append(ev)
+            names.append(name)
+
+        if sliding:
+            add("stick", lambda tt, yy, s=s: model.slip_margin(yy, s))
+        else:
+            add("slip", lambda tt, yy: model.stick_margin(yy))
+        if not fn_crossed:
+            add("F0", lambda tt, yy: model.local(yy, *mode)["F_raw"])
+        if kind in ("s", "t") and math.isnan(delta_max):
+            add("max", lambda tt, yy: yy[1])
+        if kind == "t" and not math.isnan(delta_max):
+            add("handover", lambda tt, yy: yy[0] - DELTA_HANDOVER * delta_max)
+        w_end = {"s": math.sqrt(T_HANDOVER), "t": 1e3, "u": 0.0}[kind]
+        sol = solve_ivp(rhs, (w0, w_end), Y0, method="DOP853", rtol=RTOL, atol=ATOL, events=events,
+                        dense_output=True)
+        if sol.status == -1:
+            raise RuntimeError(f"solve_oblique: the integration failed ({sol.message})")
+        fired = [(sol.t_events[i][0], names[i], sol.y_events[i][0]) for i in range(len(events))
+                 if len(sol.t_events[i])]
+        pieces.append((kind, sol.sol, sliding, s, w0, sol.t[-1]))
+        # Every margin vanishes with delta, and may fire at u = 0 itself, or chatter just before it
+        # (X and C both -> 0): transitions within the last U_END^2 delta_e of the overlap are not
+        # followed; the forces there are < ~U_END F_e over ~U_END^2 t_e, an impulse < 1e-18 F_e t_e.
+        fired = [e for e in fired if not (kind == "u" and e[0] <= U_END)]
+        if not fired:
+            t, y = phys(sol.t[-1], sol.y[:, -1])
+            if kind == "s":
+                kind = "t"
+                continue
+            if kind == "t":
+                raise RuntimeError("solve_oblique: the overlap did not return")
+            break  # u = 0: delta is back to zero
+        w_ev, name, Y_ev = min(fired, key=lambda e: abs(e[0] - w0))
+        t, y = phys(w_ev, Y_ev)
+        if name == "slip":
+            q = model.local(y, False, 0.0)
+            sliding, s = True, math.copysign(1.0, q["X"])
+            phases.append(("slip", t))
+        elif name == "stick":
+            y = y.copy()
+            y[6] = model.history_at(y, True, s)
+            sliding, s = False, 0.0
+            phases.append(("stick", t))
+        elif name == "F0":
+            fn_crossed, T_F0 = True, t
+        elif name == "max":
+            delta_max, kind = y[0], "t"
+        elif name == "handover":
+            kind = "u"
+    else:
+        raise RuntimeError(f"solve_oblique: more than {MAX_PIECES} pieces (a chattering stick/slip?)")
+
+    T_x0 = t
+    if math.isnan(T_F0):
+        T_F0 = T_x0
+    if sliding:  # the history of a slide is where the cap holds it (undefined for xi when k_t = 0)
+        y = y.copy()
+        y[6] = model.history_at(y, True, s) if model.local(y, True, s)["k_t"] > 0 else math.nan
+    eps = -y[1] / model.v_n
+    vy1, w1, vy2, w2 = y[2:6]
+    R2 = 0.0 if model.plane else model.R2
+    v_s_after = (vy1 + model.R1 * w1) - (vy2 - R2 * w2)
+    e_t = v_s_after / model.v_s0 if model.v_s0 != 0.0 else math.nan
+    F_max, Ft_max = _maxima(model, pieces, scale, t_e, delta_e)
+    phases = tuple((name, float(t)) for name, t in phases)
+    return ObliqueResult(T=float(T_F0 if model.clipped else T_x0), T_x0=float(T_x0), T_F0=float(T_F0),
+                         eps=float(eps), delta_max=float(delta_max), F_max=float(F_max), vt_after=float(vy1),
+                         omega_after=float(w1), vt2_after=float(vy2), omega2_after=float(w2), e_t=float(e_t),
+                         rebound_angle=math.degrees(math.atan2(v_s_after, eps * model.v_n)), Ft_max=float(Ft_max),
+                         phases=phases, history_after=float(y[6]))
+
+
+def _maxima(model, pieces, scale, t_e, delta_e) -> tuple[float, float]:
+    """max F_n and max |F_t| [N] over the pieces' dense outputs: the best of SAMPLES points a
+    piece, refined by bounded Brent within its neighbours."""
+
+    def value(piece, w, which):
+        kind, sol, sliding, s, _, _ = piece
+        _, y = _to_phys(kind, w, sol(w), scale, t_e, delta_e)
+        q = model.local(y, sliding, s)
+        return q["F_n"] if which == "n" else abs(q["F_t"])
+
+    best = []
+    for which in ("n", "t"):
+        top, where = -math.inf, None
+        for i, piece in enumerate(pieces):
+            w0, w1 = piece[4], piece[5]
+            grid = np.linspace(w0, w1, SAMPLES)
+            vals = [value(piece, w, which) for w in grid]
+            j = int(np.argmax(vals))
+            if vals[j] > top:
+                top, where = vals[j], (i, grid, j)
+        i, grid, j = where
+        lo, hi = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
+        if lo != hi:
+            lo, hi = min(lo, hi), max(lo, hi)
+            res = minimize_scalar(lambda w: -value(pieces[i], w, which), bounds=(lo, hi), method="bounded",
+                                  options={"xatol": 1e-13 * max(abs(lo), abs(hi), 1e-300)})
+            top = max(top, -res.fun)
+        best.append(top)
+    return best[0], best[1]
+
+
+def rigid_body_sliding(v_n: float, eps_n: float, mu: float, R: float, m: float, I: float, *, v_s: float = 1.0,
+                       R2: float = math.inf, m2: float = math.inf, I2: float = math.inf) -> dict:
+    r"""The changes of velocity of a contact that slides throughout (closed form, rigid bodies).
+
+    The normal impulse is J_n = (1 + eps_n) M* v_n [N s] with M* = m m2/(m + m2) (M* = m on a
+    plane), the tangential one J_t = -mu J_n sign(v_s) (against the slip), applied at arm R:
+    body 1 gains dv = J_t/m, dw = R J_t/I; body 2 dv_2 = -J_t/m_2, dw_2 = R_2 J_t/I_2. For a solid
+    sphere (I = (2/5) m R^2) on a plane: |dv| = mu (1 + eps_n) v_n, |dw| = (5/2) mu (1 + eps_n) v_n/R.
+
+    Parameters
+    ----------
+    v_n : float
+        Normal approach velocity [m/s].
+    eps_n : float
+        Normal restitution [-].
+    mu : float
+        Friction coefficient [-].
+    R, m, I : float
+        Body 1's radius (the arm) [m], mass [kg] and moment of inertia [kg m^2].
+    v_s : float, optional
+        The slip velocity [m/s]; only its sign is used.
+    R2, m2, I2 : float, optional
+        Body 2's radius [m], mass [kg] and moment of inertia [kg m^2] (``math.inf``: a plane).
+
+    Returns
+    -------
+    dict of str to float
+        ``dv1``, ``dw1``, ``dv2``, ``dw2`` [m/s, rad/s], the impulses ``J_n``, ``J_t`` [N s], and
+        ``dv_s`` [m/s], the change of the slip velocity (arms R and R2).
+    """
+    M = m if math.isinf(m2) else m * m2 / (m + m2)
+    J_n = (1.0 + eps_n) * M * v_n
+    J_t = -math.copysign(mu * J_n, v_s)
+    dv1, dw1 = J_t / m, R * J_t / I
+    dv2 = 0.0 if math.isinf(m2) else -J_t / m2
+    dw2 = 0.0 if math.isinf(I2) else R2 * J_t / I2
+    dv_s = dv1 + R * dw1 - dv2 + (0.0 if math.isinf(R2) else R2 * dw2)
+    return dict(dv1=dv1, dw1=dw1, dv2=dv2, dw2=dw2, J_n=J_n, J_t=J_t, dv_s=dv_s)
