@@ -19,19 +19,26 @@ itself vanishes (no spin after a frictionless impact, a slip that stops):
                       does not slip at the start, v_s = 0: e_t is then undefined);
     rebound_angle     (engine - reference) in radians.
 
-Ladder powers: an oblique contact's tangential force depends on the slip velocity, which the
-engines' map sees half a step late, and on where stick and slip meet, which falls anywhere on the
-step grid: the expansion is taken as the dissipative one's integer and half-integer powers (1,
-3/2, 2, ...) and the estimate says what the ladder resolves (`engines.ladder.extrapolate`).
+The limit: an oblique contact's tangential force depends on the slip velocity, which the engines'
+map sees half a step late, and on where stick and slip meet, which falls anywhere on the step
+grid: there the rungs' errors are no series in dt (measured, alumina at 10 deg in LAMMPS: omega'
+off by 3.3e-6, 6.0e-7, 4.6e-7, 5.7e-8 at T_e/250 ... T_e/2000). Each quantity's limit is the
+Richardson extrapolation over the dissipative expansion's powers (1, 3/2, 2, ...;
+`engines.ladder.extrapolate`) where its own estimate is below the finest two rungs' difference
+(the series holds: gross sliding, the normal half), and otherwise the finest rung, with that
+difference as its resolution (at first order or better the finest rung's remaining error is at
+most that); ``method_<q>`` says which.
 """
 
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pandas as pd
 
+from contact_model.effective import effective_shear_modulus
 from contact_model.tangential_models import form_of
 from engines.ladder import RESOLUTION_FLOOR, extrapolate
 from records.dump_file import DumpError, read_dump
@@ -111,7 +118,7 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
     p = run.pair
     b1, b2 = p.body_1, p.body_2
     form = form_of(run.model, p.geometry)
-    G_star = shear_modulus_star(b1, b2)
+    G_star = effective_shear_modulus(b1, b2)
     v = run.initial_velocities()
     v_n, v_t = run.normal.velocity, run.tangential_velocity
     r = solve_oblique(geometry=p.geometry, R1=b1.radius, m1=b1.mass, R2=b2.radius, m2=b2.mass, E_star=p.E,
@@ -132,25 +139,6 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
     return out
 
 
-def shear_modulus_star(body_1, body_2) -> float:
-    """G* [Pa]: 1/G* = (2 - nu_1)/G_1 + (2 - nu_2)/G_2, G_i = E_i / (2 (1 + nu_i)) (Mindlin; a rigid
-    body adds nothing).
-
-    Parameters
-    ----------
-    body_1, body_2 : contact_model.Body
-        The bodies (Young's modulus [Pa] and Poisson's ratio each).
-    """
-    total = 0.0
-    for b in (body_1, body_2):
-        if b.young is None or b.poisson is None:
-            raise ValueError("the tangential stiffness needs each body's Young's modulus and Poisson's ratio")
-        if math.isinf(b.young):
-            continue
-        total += 2.0 * (2.0 - b.poisson) * (1.0 + b.poisson) / b.young
-    return 1.0 / total
-
-
 #: The description columns of a rung row, from its run.
 _DESCRIPTION = ("case", "build", "engine", "model", "geometry", "law", "friction", "angle", "spin",
                 "normal_velocity", "tangential_velocity", "radius_1", "ladder", "run", "dump", "dt", "h",
@@ -169,9 +157,9 @@ def rung_rows(runs, sweep, known_defects=()) -> pd.DataFrame:
     sweep : engines.finish_run.Sweep
         Their dumps (and failures, which have no row here: `oblique_checks` names them).
     known_defects : sequence of dict
-        Config ``oblique.known_defects``: {build, model, max_error, reference, description}; a
-        ladder of that build and model carries the text in ``known_defect`` and its size in
-        ``known_defect_max_error``.
+        Config ``oblique.known_defects``: {build, model, reference, description, max_error?,
+        fails?}; with ``max_error``, a ladder of that build and model carries the text in
+        ``known_defect`` and its size in ``known_defect_max_error``.
     """
     refs, rows = {}, []
     for run in runs:
@@ -180,13 +168,16 @@ def rung_rows(runs, sweep, known_defects=()) -> pd.DataFrame:
             continue
         try:
             meta, columns = read_dump(path, oblique=True)
-            engine = oblique_metrics(columns, meta)
-        except (DumpError, ValueError) as err:
+            engine = oblique_metrics(columns, meta, source=str(path))
+        except (DumpError, ValueError) as err:  # ExtractionError is a ValueError
             rows.append({"run": run.name, "ladder": run.ladder, "build": run.build, "problem": str(err)})
             continue
         if run.ladder not in refs:
             refs[run.ladder] = reference_of(run, meta.get("tangential_stiffness"))
         ref = refs[run.ladder]
+        # The normal half under the law's criterion: F0 where the force is clipped, x0 otherwise.
+        end = "F0" if run.law == "viscoelastic_clipped" else "x0"
+        engine = {**engine, "T": engine[f"T_{end}"], "eps": engine[f"eps_{end}"], "F_max": engine["force_max"]}
         T_e = run.normal.scales["T_e"]
         row = {"case": run.normal.case, "build": run.build, "engine": run.normal.engine, "model": run.model,
                "geometry": run.pair.geometry, "law": run.law, "friction": run.friction, "angle": run.angle,
@@ -204,10 +195,10 @@ def rung_rows(runs, sweep, known_defects=()) -> pd.DataFrame:
         row.update(slides_throughout=ref["slides_throughout"], phases=ref["phases"],
                    rigid_vt_after=ref.get("rigid_vt_after", math.nan),
                    rigid_omega_after=ref.get("rigid_omega_after", math.nan))
-        for d in known_defects:
-            if d["build"] == run.build and d["model"] == run.model:
-                row.update(known_defect=f"{d['description']} ({d['reference']})",
-                           known_defect_max_error=float(d["max_error"]))
+        d = declared_defect(known_defects, run.build, run.model)
+        if d and d.get("max_error") is not None:
+            row.update(known_defect=f"{d['description']} ({d['reference']})",
+                       known_defect_max_error=float(d["max_error"]))
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -242,10 +233,20 @@ def limit_rows(rungs: pd.DataFrame) -> pd.DataFrame:
             if column not in g or not g[column].notna().all():
                 row.update({column: math.nan, f"resolution_{q}": math.nan})
                 continue
-            e = extrapolate(h, g[column].to_numpy(dtype=float), OBLIQUE_POWERS)
-            row.update({column: e.value, f"estimate_{q}": e.estimate, f"order_{q}": e.order,
-                        f"resolution_{q}": max(e.estimate, RESOLUTION_FLOOR),
-                        f"rungs_{q}": ";".join(f"{x:.6e}" for x in g[column])})
+            y = g[column].to_numpy(dtype=float)
+            e = extrapolate(h, y, OBLIQUE_POWERS)
+            # Where stick and slip meet inside the contact the rungs' errors are no series in dt:
+            # the finest rung, bounded by its distance from the next coarser (at first order or
+            # better the remaining error is at most that), unless the extrapolation's own estimate
+            # is the tighter of the two and so the series holds (gross sliding, the normal half).
+            bound = abs(y[-1] - y[-2])
+            if e.estimate <= bound:
+                value, estimate, method = e.value, e.estimate, "extrapolated"
+            else:
+                value, estimate, method = float(y[-1]), bound, "finest rung"
+            row.update({column: value, f"estimate_{q}": estimate, f"order_{q}": e.order, f"method_{q}": method,
+                        f"resolution_{q}": max(estimate, RESOLUTION_FLOOR),
+                        f"rungs_{q}": ";".join(f"{x:.6e}" for x in y)})
         out.append(row)
     return pd.DataFrame(out)
 
@@ -254,7 +255,21 @@ CHECK_COLUMNS = ["build", "case", "model", "geometry", "angle", "spin", "ranks",
                  "status", "detail"]
 
 
-def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failures=None) -> pd.DataFrame:
+def declared_defect(known_defects, build: str, model: str) -> dict | None:
+    """The config's known defect of `build` and `model` (``oblique.known_defects``), if any.
+
+    Parameters
+    ----------
+    known_defects : sequence of dict
+        Config entries {build, model, reference, description, max_error?, fails?}.
+    build, model : str
+        The ladder's build id and tangential model.
+    """
+    return next((d for d in known_defects or () if d["build"] == build and d["model"] == model), None)
+
+
+def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failures=None,
+                   known_defects=()) -> pd.DataFrame:
     """The gate's checks of the oblique ladders: one per ladder and gated quantity, and one per
     planned ladder that did not land (a failed run, or fewer than three rungs).
 
@@ -273,6 +288,10 @@ def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failure
         The plan: its ladders without a limit row fail, named.
     failures : dict, optional
         {run name: EngineRunFailed} of the sweep: the reason given for those ladders.
+    known_defects : sequence of dict, optional
+        Config ``oblique.known_defects``: a ladder that did not land is a KNOWN DEFECT where one
+        is declared for its build and model with ``fails``, text its failure contains (the engine
+        crash it is known for); any other failure of it fails.
 
     Returns
     -------
@@ -301,15 +320,27 @@ def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failure
         landed = set(limits.ladder) if len(limits) else set()
         ladder_of = {r.name: r.ladder for r in planned.runs}
         problems = {}
-        for name, failure in (failures or {}).items():
-            problems.setdefault(ladder_of.get(name), failure.problem)
+        failures = failures or {}
+        for name, failure in failures.items():
+            problem = failure.problem
+            # A run left undone because an earlier one stopped the engine ("not run: lammps
+            # stopped in <run>") fails for that run's reason: say both.
+            stopped = re.search(r"stopped in (\S+)", problem) if problem.startswith("not run") else None
+            if stopped and stopped[1] in failures and stopped[1] != name:
+                problem = f"{problem}, which failed: {failures[stopped[1]].problem}"
+            problems.setdefault(ladder_of.get(name), problem)
         for run in planned.runs:
             if run.ladder in landed:
                 continue
             landed.add(run.ladder)
             why = problems.get(run.ladder, "fewer than three rungs landed")
+            defect = declared_defect(known_defects, run.build, run.model)
+            known = bool(defect and defect.get("fails") and defect["fails"] in why)
+            detail = f"the ladder did not land: {why}"
+            if known:
+                detail = f"known defect ({defect['reference']}): {defect['description']}; {detail}"
             rows.append({"build": run.build, "case": run.normal.case, "model": run.model,
                          "geometry": run.pair.geometry, "angle": run.angle, "spin": run.spin, "ranks": run.ranks,
-                         "quantity": "run", "error": math.nan, "resolution": math.nan, "status": "FAIL",
-                         "detail": f"the ladder did not land: {why}"})
+                         "quantity": "run", "error": math.nan, "resolution": math.nan,
+                         "status": "KNOWN DEFECT" if known else "FAIL", "detail": detail})
     return pd.DataFrame(rows, columns=CHECK_COLUMNS)

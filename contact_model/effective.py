@@ -32,6 +32,36 @@ def effective_modulus(young_1: float, poisson_1: float, young_2: float, poisson_
     return 1.0 / compliance
 
 
+def effective_shear_modulus(body_1, body_2) -> float:
+    """G* = 1 / [(2 - nu1)/G1 + (2 - nu2)/G2], G_i = Y_i / (2 (1 + nu_i)) (Mindlin's tangential
+    stiffness is 8 G* a); a rigid body (Y = inf) adds nothing.
+
+    Parameters
+    ----------
+    body_1, body_2 : contact_pair.Body
+        The bodies, each with Young's modulus [Pa] and Poisson's ratio [-].
+
+    Returns
+    -------
+    float
+        The effective shear modulus G* [Pa].
+
+    Raises
+    ------
+    ValueError
+        Where a body lacks its Young's modulus or Poisson's ratio, or both are rigid.
+    """
+    compliance = 0.0
+    for body in (body_1, body_2):
+        if body.young is None or body.poisson is None:
+            raise ValueError("the tangential stiffness needs both bodies' Young's modulus and Poisson's ratio (G*)")
+        if math.isfinite(body.young):
+            compliance += 2.0 * (2.0 - body.poisson) * (1.0 + body.poisson) / body.young
+    if compliance == 0:
+        raise ValueError("two rigid bodies have no finite G*")
+    return 1.0 / compliance
+
+
 def effective_radius(radius_1: float, radius_2: float = math.inf) -> float:
     """R* = R1 R2 / (R1 + R2); R2 = inf (a plane) gives R* = R1.
 

