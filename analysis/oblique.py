@@ -139,12 +139,6 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
     return out
 
 
-#: The description columns of a rung row, from its run.
-_DESCRIPTION = ("case", "build", "engine", "model", "geometry", "law", "friction", "angle", "spin",
-                "normal_velocity", "tangential_velocity", "radius_1", "ladder", "run", "dump", "dt", "h",
-                "time_step_factor", "ranks")
-
-
 def rung_rows(runs, sweep, known_defects=()) -> pd.DataFrame:
     """One row per landed run: its description, the engine's values, the reference's
     (``<q>_ref``), the errors (``err_<q>``, `errors`), and the rigid-body values where the
@@ -182,7 +176,9 @@ def rung_rows(runs, sweep, known_defects=()) -> pd.DataFrame:
         row = {"case": run.normal.case, "build": run.build, "engine": run.normal.engine, "model": run.model,
                "geometry": run.pair.geometry, "law": run.law, "friction": run.friction, "angle": run.angle,
                "spin": run.spin, "normal_velocity": run.normal.velocity, "tangential_velocity": run.tangential_velocity,
-               "radius_1": run.pair.body_1.radius, "ladder": run.ladder, "run": run.name, "dump": str(path),
+               "radius_1": run.pair.body_1.radius, "mass_1": run.pair.body_1.mass,
+               "radius_2": run.pair.body_2.radius, "mass_2": run.pair.body_2.mass, "ladder": run.ladder,
+               "run": run.name, "dump": str(path),
                "dt": run.normal.time_step, "h": run.normal.time_step / T_e,
                "time_step_factor": run.normal.time_step_factor, "ranks": run.ranks,
                "engine_version": meta.get("engine_version", "")}
@@ -221,6 +217,10 @@ def limit_rows(rungs: pd.DataFrame) -> pd.DataFrame:
         ladders of fewer than three rungs are left out.
     """
     out = []
+    if not len(rungs) or "ladder" not in rungs:
+        return pd.DataFrame()
+    if "problem" in rungs:  # a dump that could not be read has no values: its rung did not land
+        rungs = rungs[rungs.problem.isna()]
     for _, g in rungs.groupby("ladder", sort=False):
         if len(g) < 3:
             continue
@@ -251,8 +251,101 @@ def limit_rows(rungs: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
+#: How far a rung run on two MPI ranks may differ from the same rung on one, relative to each
+#: quantity's scale: round-off (measured: bitwise identical in LAMMPS 29 Sep 2021 and 22 Jul 2025).
+RANKS_TOLERANCE = 1e-12
+
+
+def processor_boundary_checks(rungs: pd.DataFrame, planned=None, failures=None, known_defects=()) -> pd.DataFrame:
+    """One check per rung run on two MPI ranks: its values equal the one-rank run's to round-off.
+
+    The two-rank runs split the domain at the contact (engines/oblique_run.py,
+    `ObliqueRun.initial_positions`), so that the pair and its tangential history cross ranks while
+    the contact lasts.
+
+    Parameters
+    ----------
+    rungs : DataFrame
+        `rung_rows`' rows (columns run, ranks and the quantities).
+    planned : engines.oblique_plan.ObliquePlan, optional
+        The plan: a two-rank run without a row fails, named (KNOWN DEFECT where its one-rank twin
+        failed as a declared defect says).
+    failures : dict, optional
+        {run name: EngineRunFailed} of the sweep.
+    known_defects : sequence of dict, optional
+        Config ``oblique.known_defects`` (`oblique_checks`).
+
+    Returns
+    -------
+    DataFrame
+        CHECK_COLUMNS, quantity 'ranks 1 vs 2', error the largest relative difference over the
+        quantities of OBLIQUE_QUANTITIES and OBLIQUE_REPORTED.
+    """
+    rows = []
+    failures = failures or {}
+    landed = set(rungs.run) if len(rungs) and "run" in rungs else set()
+    for run in (planned.runs if planned is not None else ()):
+        if run.ranks != 2 or run.name in landed:
+            continue
+        why = failure_reason(run.name, failures) if run.name in failures else "its dump did not land"
+        twin = run.name.removesuffix("-np2")
+        twin_why = failure_reason(twin, failures) if twin in failures else ""
+        defect = declared_defect(known_defects, run.build, run.model)
+        # On two ranks the rank that meets an error may not be the one whose output is the log: the
+        # one-rank twin's failure says what it was.
+        known = bool(defect and defect.get("fails") and defect["fails"] in why + twin_why)
+        rows.append({"build": run.build, "case": run.normal.case, "model": run.model, "geometry": run.pair.geometry,
+                     "angle": run.angle, "spin": run.spin, "ranks": 2,
+                     "quantity": f"ranks 1 vs 2 (dt = T_e/{run.normal.time_step_factor:g})", "error": math.nan,
+                     "resolution": math.nan, "status": "KNOWN DEFECT" if known else "FAIL",
+                     "detail": (f"known defect ({defect['reference']}), as on one rank: " if known else "")
+                               + f"the two-rank run failed: {why}"})
+    if not len(rungs) or "ranks" not in rungs:
+        return pd.DataFrame(rows, columns=CHECK_COLUMNS)
+    one = {r.run: r for r in rungs[rungs.ranks == 1].itertuples()}
+    for r in rungs[rungs.ranks == 2].itertuples():
+        twin = one.get(r.run.removesuffix("-np2"))
+        worst, which = 0.0, ""
+        if twin is not None:
+            # The difference in the form each error is gated in (`errors`): relative, or scaled by the
+            # impact's speed, or absolute for e_t and the angle.
+            two = {q: getattr(r, q) for q in OBLIQUE_QUANTITIES}
+            one_values = {q: getattr(twin, q) for q in OBLIQUE_QUANTITIES}
+            diffs = errors(two, {**one_values, "slip_before": r.tangential_velocity + r.radius_1 * r.spin},
+                           r.normal_velocity, r.tangential_velocity, r.spin, r.radius_1)
+            for column, d in diffs.items():
+                if np.isfinite(d) and not abs(d) <= worst:
+                    worst, which = abs(d), column.removeprefix("err_")
+        ok = twin is not None and worst <= RANKS_TOLERANCE
+        sign = "<=" if ok else ">"
+        detail = ("no one-rank twin ran" if twin is None else
+                  f"largest difference {worst:.3g} ({which or 'none'}) {sign} {RANKS_TOLERANCE:g}")
+        rows.append({"build": r.build, "case": r.case, "model": r.model, "geometry": r.geometry, "angle": r.angle,
+                     "spin": r.spin, "ranks": 2, "quantity": f"ranks 1 vs 2 (dt = T_e/{r.time_step_factor:g})",
+                     "error": worst, "resolution": 0.0, "status": "PASS" if ok else "FAIL", "detail": detail})
+    return pd.DataFrame(rows, columns=CHECK_COLUMNS)
+
+
 CHECK_COLUMNS = ["build", "case", "model", "geometry", "angle", "spin", "ranks", "quantity", "error", "resolution",
                  "status", "detail"]
+
+
+def failure_reason(name: str, failures: dict) -> str:
+    """Why run `name` failed: its own problem, and where an earlier run stopped the engine ("not
+    run: lammps stopped in <run>"), that run's problem as well.
+
+    Parameters
+    ----------
+    name : str
+        The run.
+    failures : dict
+        {run name: EngineRunFailed} of the sweep.
+    """
+    problem = failures[name].problem
+    stopped = re.search(r"stopped in (\S+)", problem) if problem.startswith("not run") else None
+    if stopped and stopped[1] in failures and stopped[1] != name:
+        problem = f"{problem}, which failed: {failures[stopped[1]].problem}"
+    return problem
 
 
 def declared_defect(known_defects, build: str, model: str) -> dict | None:
@@ -321,16 +414,11 @@ def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failure
         ladder_of = {r.name: r.ladder for r in planned.runs}
         problems = {}
         failures = failures or {}
-        for name, failure in failures.items():
-            problem = failure.problem
-            # A run left undone because an earlier one stopped the engine ("not run: lammps
-            # stopped in <run>") fails for that run's reason: say both.
-            stopped = re.search(r"stopped in (\S+)", problem) if problem.startswith("not run") else None
-            if stopped and stopped[1] in failures and stopped[1] != name:
-                problem = f"{problem}, which failed: {failures[stopped[1]].problem}"
-            problems.setdefault(ladder_of.get(name), problem)
+        for name in failures:
+            # A run left undone because an earlier one stopped the engine fails for that one's reason.
+            problems.setdefault(ladder_of.get(name), failure_reason(name, failures))
         for run in planned.runs:
-            if run.ladder in landed:
+            if run.ladder in landed or run.ranks != 1:  # two ranks: processor_boundary_checks
                 continue
             landed.add(run.ladder)
             why = problems.get(run.ladder, "fewer than three rungs landed")

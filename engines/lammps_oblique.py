@@ -143,7 +143,11 @@ def deck_variables(job: _Job, out: Path, decks: Path) -> dict[str, str]:
     run = job.run
     var = {**common_variables(run.normal), **{k: number(v) for k, v in run.initial_velocities().items()},
            **{k: number(v) for k, v in run.initial_positions().items()},
-           **contact_words(run, job.stiffness_factor), "out": str(out), "owners": str(owners_file(out))}
+           # Two ranks: two spheres split along x at their contact, a sphere on the plane along y
+           # (it crosses y = 0 during the contact); see the decks.
+           "grid": "1 * 1" if run.pair.body_2.is_plane and run.ranks == 2 else "* 1 1",
+           **contact_words(run, job.stiffness_factor), "out": str(out), "owners": str(owners_file(out)),
+           "owners_end": str(owners_file(out).with_suffix(".owners_end"))}
     for i, body in ((1, run.pair.body_1), (2, run.pair.body_2)):
         if not body.is_plane:
             var[f"d{i}"] = number(2 * body.radius)
@@ -180,15 +184,18 @@ class ObliqueEngine(ScriptEngine):
         owners = owners_file(raw)
         meta = {"engine": self.name, "engine_version": version, "deck": self.deck_files(job)[0],
                 "deck_sha256": self.deck_hash(job),
-                "engine_variables": {k: v for k, v in variables.items() if k not in ("out", "owners")},
+                "engine_variables": {k: v for k, v in variables.items() if k not in ("out", "owners", "owners_end")},
                 "tangential_stiffness": job.stiffness_factor * tangential_stiffness(run),
                 "tangential_stiffness_unit": "N/m" if word_of(run) == "linear_history" else "Pa (times a: N/m)",
                 "owners": {str(k): v for k, v in read_owners(owners).items()} if owners.exists() else None,
+                "owners_end": ({str(k): v for k, v in read_owners(owners.with_suffix(".owners_end")).items()}
+                               if owners.with_suffix(".owners_end").exists() else None),
                 **run.metadata()}
         dump = workdir / f"{run.name}.csv"
         write_dump(dump, meta, data)
         raw.unlink()
         owners.unlink(missing_ok=True)
+        owners.with_suffix(".owners_end").unlink(missing_ok=True)
         return dump
 
 

@@ -49,7 +49,8 @@ def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,))
     factors : sequence of float
         The ladder's time-step factors (dt ~ T_e / factor), each rung aligned (`RunSpec.time_step`).
     ranks : sequence of int
-        The MPI process counts each ladder runs with (2: the processor-boundary check).
+        The MPI process counts to run: 1, every rung of every ladder; 2, the coarsest rung of
+        each again on two ranks (the processor-boundary check).
 
     Returns
     -------
@@ -71,7 +72,9 @@ def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,))
                             f"{model.name} has no {pair.geometry} contact")
                         continue
                     for n in ranks:
-                        for f in factors:
+                        # Two ranks check that crossing a processor boundary changes nothing (bitwise,
+                        # `analysis.oblique.processor_boundary_checks`): one rung does, the coarsest.
+                        for f in (factors if n == 1 else factors[:1]):
                             normal = RunSpec(case.name, code, law, pair, impact["normal_velocity"],
                                              time_step_factor=float(f), build=build)
                             plan.runs.append(ObliqueRun(normal, model.name, case.friction,

@@ -129,9 +129,14 @@ class ObliqueRun:
         offset along y so that their centres are aligned on the x axis when they touch, at the
         planned time and phase of the step grid (`touching_time`). The line of centres then turns
         during the contact (by about v_t T / (R1 + R2)): the reference follows it
-        (`reference.solve_oblique`, which starts at touching with the centres on x). The plane: y1 = 0."""
+        (`reference.solve_oblique`, which starts at touching with the centres on x). The plane:
+        y1 = 0, except on two MPI ranks, where the sphere crosses y = 0 in the middle of the
+        contact (the decks split the domain there, so that the contact's history changes rank)."""
         if self.pair.body_2.is_plane:
-            return {"y1": 0.0}
+            if self.ranks == 1:
+                return {"y1": 0.0}
+            middle = self.touching_time() + 0.5 * self.normal.scales["T_e"]  # T_e: Hertz's contact time
+            return {"y1": -self.tangential_velocity * middle}
         v, t = self.initial_velocities(), self.touching_time()
         return {"y1": -v["vy1"] * t, "y2": -v["vy2"] * t}
 

@@ -10,6 +10,7 @@ comparison with the rigid-body closed form, and every failed check with its figu
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -60,16 +61,51 @@ def conformance_matrix(checks: pd.DataFrame) -> pd.DataFrame:
     return table.reset_index().pivot(index=["model", "geometry"], columns="build", values="cell").fillna("n/a")
 
 
-def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
-    """One figure per quantity of FIGURES against the incidence angle [deg]: every build and model
-    (markers: the engine at dt -> 0), each model's reference (line) and, for e_t and omega', the
-    rigid-body gross-sliding line where the limits carry it. Returns the files' names.
+def rigid_line(limits: pd.DataFrame, q: str) -> pd.Series:
+    """The rigid-body gross-sliding value of `q` (e_t, omega_after or rebound_angle) at every limit
+    row (`reference.rigid_body_sliding`, arms R, solid spheres, with the row's normal restitution):
+    what Coulomb friction gives where the contact slides throughout (NaN where that sliding would
+    reverse the slip, so that the contact cannot slide throughout).
 
     Parameters
     ----------
     limits : DataFrame
-        The ladders' limit rows (columns build, model, geometry, case, angle, spin, <q>, <q>_ref,
-        and rigid_<q> where a rigid-body value is known).
+        Limit rows with normal_velocity, tangential_velocity, spin, friction, eps_ref, radius_1,
+        geometry, and for two spheres radius_2 and the masses (mass_1, mass_2).
+    q : str
+        'e_t', 'omega_after' or 'rebound_angle'.
+    """
+    from reference import rigid_body_sliding
+
+    out = []
+    for r in limits.itertuples():
+        R, m = r.radius_1, getattr(r, "mass_1", math.nan)
+        plane = r.geometry == "sphere-plane"
+        R2 = math.inf if plane else getattr(r, "radius_2", math.nan)
+        m2 = math.inf if plane else getattr(r, "mass_2", math.nan)
+        v_s = r.tangential_velocity + R * r.spin
+        eps = r.eps_ref
+        d = rigid_body_sliding(r.normal_velocity, eps, r.friction, R, m, 0.4 * m * R * R, v_s=v_s, R2=R2, m2=m2,
+                               I2=math.inf if plane else 0.4 * m2 * R2 * R2)
+        v_s_after = v_s + d["dv_s"]
+        if v_s == 0 or v_s_after / v_s < 0:  # the slip would reverse: no gross sliding, no rigid value
+            out.append(math.nan)
+            continue
+        value = {"omega_after": r.spin + d["dw1"], "e_t": v_s_after / v_s if v_s else math.nan,
+                 "rebound_angle": math.degrees(math.atan2(v_s_after, eps * r.normal_velocity))}[q]
+        out.append(value)
+    return pd.Series(out, index=limits.index)
+
+
+def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
+    """One figure per quantity of FIGURES against the incidence angle [deg], a panel per geometry:
+    every build and model (markers: the engine at dt -> 0), each model's reference (line) and the
+    rigid-body gross-sliding line (dashed). Returns the files' names.
+
+    Parameters
+    ----------
+    limits : DataFrame
+        The ladders' limit rows (columns build, model, geometry, case, angle, spin, <q>, <q>_ref).
     folder : str or os.PathLike
         Where the PNG files go.
     """
@@ -83,32 +119,39 @@ def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
     names = []
     if not len(limits) or "angle" not in limits:
         return names
-    plain = limits[(limits.spin == 0)] if "spin" in limits else limits
+    plain = limits[(limits.spin == 0) & (limits.get("ranks", 1) == 1)] if "spin" in limits else limits
+    geometries = [g for g in ("sphere-plane", "sphere-sphere") if (plain.geometry == g).any()]
+    markers = "osD^vP*Xh<>"
     for q, label, file_name in FIGURES:
-        if q not in plain:
+        if q not in plain or not geometries:
             continue
-        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=False)
-        for ax, geometry in zip(axes, ("sphere-plane", "sphere-sphere")):
+        fig, axes = plt.subplots(1, len(geometries), figsize=(6.5 * len(geometries) + 3.5, 4.6), squeeze=False)
+        for ax, geometry in zip(axes[0], geometries):
             g = plain[plain.geometry == geometry]
-            for (case, model), ref in g.groupby(["case", "model"]):
+            for k, ((case, model), ref) in enumerate(g.groupby(["case", "model"])):
                 ref = ref.drop_duplicates("angle").sort_values("angle")
-                if f"{q}_ref" in ref:
-                    ax.plot(ref.angle, ref[f"{q}_ref"], "-", lw=0.8, alpha=0.6, label=f"{model} reference")
-            for (build, model), e in g.groupby(["build", "model"]):
+                ax.plot(ref.angle, ref[f"{q}_ref"], "-", lw=0.9, alpha=0.7, color=f"C{k}", label=f"{model} reference")
+            for k, ((build, model), e) in enumerate(g.groupby(["build", "model"])):
                 e = e.sort_values("angle")
-                ax.plot(e.angle, e[q], "o", ms=3.5, mfc="none", label=f"{build} {model}")
-            if f"rigid_{q}" in g and g[f"rigid_{q}"].notna().any():
-                r = g.dropna(subset=[f"rigid_{q}"]).drop_duplicates("angle").sort_values("angle")
-                ax.plot(r.angle, r[f"rigid_{q}"], "k--", lw=1.2, label="rigid body, gross sliding")
+                ax.plot(e.angle, e[q], markers[k % len(markers)], ms=4, mfc="none", color=f"C{k}",
+                        label=f"{build} {model}")
+            try:
+                first = g.drop_duplicates("angle").sort_values("angle")
+                ax.plot(first.angle, rigid_line(first, q), "k--", lw=1.2, label="rigid body, gross sliding")
+            except (AttributeError, KeyError, ValueError):
+                pass  # rows without masses (an old summary): no rigid line
             ax.set_title(geometry)
             ax.set_xlabel("incidence from the normal [deg]")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
-        handles, labels = axes[0].get_legend_handles_labels()
-        more = axes[1].get_legend_handles_labels()
-        seen = dict(zip(labels + more[1], handles + more[0]))
-        fig.legend(seen.values(), seen.keys(), loc="lower center", ncol=3, fontsize=7, frameon=False)
-        fig.tight_layout(rect=(0, 0.18, 1, 1))
+        handles, labels = [], []
+        for ax in axes[0]:
+            for h, lab in zip(*ax.get_legend_handles_labels()):
+                if lab not in labels:
+                    handles.append(h)
+                    labels.append(lab)
+        fig.legend(handles, labels, loc="center right", fontsize=7, frameon=False)
+        fig.tight_layout(rect=(0, 0, 1 - 3.3 / (6.5 * len(geometries) + 3.5), 1))
         fig.savefig(folder / file_name, dpi=110)
         plt.close(fig)
         names.append(file_name)

@@ -116,8 +116,10 @@ def test_gross_sliding_meets_the_rigid_body_closed_form(sweep):
 
 
 def test_one_and_two_ranks_give_the_same_dump(sweep):
-    """The box (symmetric about 0) split along x at the contact: two spheres start on different
-    ranks. Measured: every column bitwise identical in both builds."""
+    """Two ranks, the box (symmetric about 0) split at the contact: two spheres split along x start
+    on different ranks; the sphere on the plane (split along y) starts on rank 0 and ends on rank 1,
+    having crossed y = 0 in the middle of the contact with the wall's history. Measured: every
+    column bitwise identical in both builds."""
     runs = sweep["ranks"]
     for one, two in zip(runs[::2], runs[1::2]):
         meta_1, c1 = read_dump(sweep["dumps"][one.name], oblique=True)
@@ -125,7 +127,8 @@ def test_one_and_two_ranks_give_the_same_dump(sweep):
         if one.pair.geometry == "sphere-sphere":
             assert meta_2["owners"] == {"1": 0, "2": 1} and meta_1["owners"] == {"1": 0, "2": 0}
         else:
-            assert meta_2["owners"] == {"1": 0}
+            assert meta_2["owners"] == {"1": 0} and meta_2["owners_end"] == {"1": 1}, meta_2["owners_end"]
+            assert meta_1["owners_end"] == {"1": 0}
         for column in c1:
             scale = float(np.abs(c1[column]).max())
             assert np.max(np.abs(c1[column] - c2[column])) <= 1e-14 * scale, column

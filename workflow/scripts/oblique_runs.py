@@ -4,7 +4,7 @@ MPI rank count: rungs.csv, limits.csv, checks.csv and the manifest of the dumps.
 import pandas as pd
 
 from common import start_rule
-from analysis.oblique import oblique_checks, limit_rows, rung_rows
+from analysis.oblique import limit_rows, oblique_checks, processor_boundary_checks, rung_rows
 from contact_model import load_case
 from engines.builds import Build, check_build
 from engines.oblique_plan import oblique_plan
@@ -29,8 +29,10 @@ log.info("%s (%s): %d oblique runs (%d ladders) of %d cases; not run: %s", build
 sweep = run_oblique_sweep(build, plan.runs, snakemake.output.runs, timeout_floor_s=snakemake.params.timeout_floor_s)
 rungs = rung_rows(plan.runs, sweep, known_defects=o.get("known_defects", []))
 limits = limit_rows(rungs) if len(rungs) else pd.DataFrame()
-checks = oblique_checks(limits, float(o["tolerance"]), planned=plan, failures=sweep.failures,
-                        known_defects=o.get("known_defects", []))
+checks = pd.concat([oblique_checks(limits, float(o["tolerance"]), planned=plan, failures=sweep.failures,
+                                   known_defects=o.get("known_defects", [])),
+                    processor_boundary_checks(rungs, plan, sweep.failures, o.get("known_defects", []))],
+                   ignore_index=True)
 rungs.to_csv(snakemake.output.rungs, index=False, float_format="%.17g")
 limits.to_csv(snakemake.output.limits, index=False, float_format="%.17g")
 checks.to_csv(snakemake.output.checks, index=False, float_format="%.6g")
