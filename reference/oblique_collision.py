@@ -111,6 +111,12 @@ T_HANDOVER = 0.25
 DELTA_HANDOVER = 0.5
 #: The time [delta_e / v_n] at which the first phase (stick or slip) is decided.
 T_START = 1e-12
+#: |F_n| [F_e = k_n delta_e^{3/2}] within which a transition is taken for the force zero (a kink of C).
+F0_TOUCH = 1e-9
+#: The span [of the piece's variable, ~1 a contact] a phase that wants to leave at once is kept.
+GRACE = 1e-10
+#: Graces in a row beyond which the stick/slip chatter is refused.
+MAX_CHATTER = 20
 #: sqrt(delta/delta_e) below which the transitions are not followed (see _integrate).
 U_END = 1e-6
 #: More transitions than this in one collision means a chattering model (or a bug): refused.
@@ -185,6 +191,9 @@ class _Model:
         self.c_k = 1.0 if (f.history == "displacement" and f.stiffness == "mindlin") else 0.0
         self.sh1s, self.sh1t = lever_share(f.lever_slip), lever_share(f.lever_torque)
         # a plane does not move: its inverse mass and inertia are zero, and so are its arms' terms
+        # after the normal force's zero the cap stays 0 to the end: clipped, or clipped in the cap
+        # (the unclipped force stays negative once it has crossed zero on the way out)
+        self.capless_after_f0 = f.cap_normal != "elastic" and (self.clipped or f.cap_normal == "total_clipped")
         self.im1, self.iI1 = 1.0 / self.m1, 1.0 / self.I1
         self.im2 = 0.0 if self.plane else 1.0 / self.m2
         self.iI2 = 0.0 if self.plane else 1.0 / self.I2
@@ -406,6 +415,9 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
     delta_max = math.nan
     T_F0 = math.nan
     fn_crossed = model.eta == 0.0  # the force zero is an event only with a dissipative term
+    capless = grace = switched = False
+    chatter = 0
+    F_e = model.k_n * delta_e ** 1.5
     pieces = []  # (kind, sol, sliding, s, w0, w1) for the maxima
 
     for _ in range(MAX_PIECES):
@@ -436,7 +448,9 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
             events.append(ev)
             names.append(name)
 
-        if sliding:
+        if capless or grace:
+            pass
+        elif sliding:
             add("stick", lambda tt, yy, s=s: model.slip_margin(yy, s))
         else:
             add("slip", lambda tt, yy: model.stick_margin(yy))
@@ -447,6 +461,8 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
         if kind == "t" and not math.isnan(delta_max):
             add("handover", lambda tt, yy: yy[0] - DELTA_HANDOVER * delta_max)
         w_end = {"s": math.sqrt(T_HANDOVER), "t": 1e3, "u": 0.0}[kind]
+        if grace:
+            w_end = w0 + math.copysign(GRACE, w_end - w0)
         sol = solve_ivp(rhs, (w0, w_end), Y0, method="DOP853", rtol=RTOL, atol=ATOL, events=events,
                         dense_output=True)
         if sol.status == -1:
@@ -460,6 +476,9 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
         fired = [e for e in fired if not (kind == "u" and e[0] <= U_END)]
         if not fired:
             t, y = phys(sol.t[-1], sol.y[:, -1])
+            if grace:
+                grace, switched = False, False
+                continue
             if kind == "s":
                 kind = "t"
                 continue
@@ -467,8 +486,37 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
                 raise RuntimeError("solve_oblique: the overlap did not return")
             break  # u = 0: delta is back to zero
         w_ev, name, Y_ev = min(fired, key=lambda e: abs(e[0] - w0))
+        if name in ("slip", "stick") and switched and abs(w_ev - w0) <= 1e-12 * max(1.0, abs(w0)):
+            # The phase just entered wants to leave at once: at a transition both C^2 - X^2 and the
+            # slide's margin start at zero with zero slope, so round-off can fire them. The phase
+            # is kept for GRACE without its exit event; a true chatter (no continuous limit: a
+            # Filippov slide on the cap, e.g. a damping that switches off with the slide) repeats.
+            chatter += 1
+            if chatter > MAX_CHATTER:
+                raise RuntimeError(f"solve_oblique: stick/slip chatter at t = {t:.12g} s: the model has no "
+                                   "continuous limit there (the contact would slide along the cap with a "
+                                   "force neither phase gives)")
+            grace = True
+            continue
+        switched = name in ("slip", "stick")
+        if not switched:
+            chatter = 0
         t, y = phys(w_ev, Y_ev)
-        if name == "slip":
+        if name in ("slip", "stick") and not fn_crossed and abs(model.local(y, sliding, s)["F_raw"]) <= F0_TOUCH * F_e:
+            # a transition at the normal force's zero (the kink of C there, |F_n| or max(F_n, 0), can
+            # make one): F0's own event, a few ulp later, would now be lost, so F0 is this point too
+            fn_crossed, T_F0 = True, t
+            if model.capless_after_f0:
+                name = "F0"
+        if name == "F0":
+            fn_crossed, T_F0 = True, t
+            if model.capless_after_f0:
+                # C = 0 from here to the end: the contact slides, with F_t = 0 (total cap) or the
+                # damping alone (elastic cap) whatever the direction, and no transition is left
+                if not sliding:
+                    phases.append(("slip", t))
+                sliding, s, capless = True, (s or 1.0), True
+        elif name == "slip":
             q = model.local(y, False, 0.0)
             sliding, s = True, math.copysign(1.0, q["X"])
             phases.append(("slip", t))
@@ -477,8 +525,6 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
             y[6] = model.history_at(y, True, s)
             sliding, s = False, 0.0
             phases.append(("stick", t))
-        elif name == "F0":
-            fn_crossed, T_F0 = True, t
         elif name == "max":
             delta_max, kind = y[0], "t"
         elif name == "handover":
