@@ -176,6 +176,8 @@ class ReportInputs:
     table1: pd.DataFrame | None = None
     energy_check: pd.DataFrame | None = None
     calibration: str | None = None
+    #: The text of results/oblique/reduced/report.md (the oblique impacts' reduced set), a section.
+    oblique: str | None = None
     reference: pd.DataFrame | None = None
     builds: list | None = None
     not_available: list = field(default_factory=list)
@@ -474,7 +476,9 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
     if claims is not None:
         lines += _paper_section(claims, table1, energy_check)
     if calibration is not None:
-        lines += _calibration_section(calibration)
+        lines += _included_report_section(calibration)
+    if i.oblique is not None:
+        lines += _included_report_section(i.oblique, folder="oblique/reduced")
     if has_rows:
         lines += ["## Findings", ""] + [f"- {f}" for f in findings(table, series_cmp, ladder_runs)] + [""]
     if timing:
@@ -547,9 +551,9 @@ def _parts_section(case_reports: list, comparisons: list, calibration: bool) -> 
     return lines
 
 
-def _calibration_section(markdown_text: str, folder: str = "calibration") -> list[str]:
-    """results/calibration/report.md one heading level down, its relative links pointing into
-    `folder` (the report sits one level above it)."""
+def _included_report_section(markdown_text: str, folder: str = "calibration") -> list[str]:
+    """A report included as a section (results/calibration/report.md, results/oblique/reduced/report.md)
+    one heading level down, its relative links pointing into `folder` (relative to this report)."""
     text = re.sub(r"^(#+) ", r"#\1 ", markdown_text, flags=re.M)
     text = re.sub(r"\]\((?!https?:|/|#)([^)]+)\)", rf"]({folder}/\1)", text)
     return text.rstrip().splitlines() + [""]

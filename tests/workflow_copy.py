@@ -18,6 +18,7 @@ def copy_workflow(dest: Path, case_text: str | None = None) -> Path:
         (shutil.copytree if src.is_dir() else shutil.copy)(src, dest / item)
     (dest / "cases").mkdir()
     shutil.copytree(ROOT / "cases" / "decks", dest / "cases" / "decks")
+    shutil.copytree(ROOT / "cases" / "oblique", dest / "cases" / "oblique")  # config oblique: (extras `oblique`)
     if case_text is None:
         shutil.copy(ROOT / "cases" / "steel.yaml", dest / "cases")
     else:

@@ -5,6 +5,8 @@
 # `all` runs the reduced set `oblique.reduced` of the same cases (the `oblique_reduced` target).
 
 
+from contact_model.tangential_models import REGISTRY_PATH as TANGENTIAL_MODELS_FILE  # noqa: E402
+
 OBLIQUE = config.get("oblique") or {"cases": "", "builds": [], "reduced": {"cases": []}, "tolerance": 1e-6}
 
 
@@ -20,7 +22,7 @@ rule oblique_runs:
     input:
         cases=lambda w: oblique_cases(w.set == "reduced"),
         decks=lambda w: DECKS[BUILDS[w.build].code],
-        models="contact_model/tangential_models.yaml",
+        models=str(TANGENTIAL_MODELS_FILE),  # the registry (where the package is: a copy of the workflow too)
     output:
         rungs="results/oblique/{set}/{build}/rungs.csv",
         limits="results/oblique/{set}/{build}/limits.csv",

@@ -29,6 +29,9 @@ EXTRA_REPORT_INPUTS = {
         **{f"figure_{n}": f"results/paper/{name}.png" for n, name in PAPER_FIGURES.items()}}
        if "paper" in EXTRAS else {}),
     **({"calibration": "results/calibration/report.md"} if "calibration" in EXTRAS else {}),
+    # The oblique impacts' reduced set (workflow/rules/oblique.smk): its report, a section; its gate is
+    # part of `all` (a FAIL there fails the run, with its own junit.xml and verdict.json).
+    **({"oblique": "results/oblique/reduced/report.md"} if "oblique" in EXTRAS and config.get("oblique") else {}),
     **({"regressions": "results/lammps/regressions.csv"}
        if "lammps_regressions" in EXTRAS and LAMMPS_BUILDS else {}),
 }

@@ -30,6 +30,22 @@ def job_name(smk) -> str:
     return smk.rule + (f" ({', '.join(f'{k} {v}' for k, v in wildcards.items())})" if wildcards else "")
 
 
+def start_oblique_rule(smk):
+    """log_to(the rule's log), after marking stale the verdict of its oblique set (results/oblique/
+    <set>/) and, for the reduced set, which the study's report includes, the study's verdict too;
+    see `start_rule`."""
+    log = log_to(smk.log[0])
+    reduced = smk.wildcards.set == "reduced"
+    by = job_name(smk)
+    folders = [("results", "snakemake -j2 all")] if reduced else []
+    folders.append((f"results/oblique/{smk.wildcards.set}", "snakemake -j2 " + ("oblique_reduced" if reduced
+                                                                                else "oblique")))
+    for folder, rerun in folders:
+        for path in mark_stale(folder, by, rerun):
+            log.info("marked stale: %s", path)
+    return log
+
+
 def start_rule(smk, *also, results_dir="results"):
     """log_to(the rule's log), after marking stale (`verdict.verdict_files.mark_stale`) the
     verdict of the study (`results_dir`), of the rule's case (`results_dir/<case>`, for a rule with

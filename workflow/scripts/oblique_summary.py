@@ -3,10 +3,10 @@ verdict.json (report.oblique_report)."""
 
 import pandas as pd
 
-from common import start_rule
+from common import start_oblique_rule
 from report.oblique_report import write_oblique_report
 
-log = start_rule(snakemake, "results/oblique")
+log = start_oblique_rule(snakemake)
 
 
 def read_all(paths):

@@ -50,6 +50,8 @@ optional = {key: pd.read_csv(snakemake.input[key])
             if key in snakemake.input.keys()}
 if "calibration" in snakemake.input.keys():
     optional["calibration"] = Path(snakemake.input.calibration).read_text()
+if "oblique" in snakemake.input.keys():
+    optional["oblique"] = Path(snakemake.input.oblique).read_text()
 optional["reference"] = pd.read_csv(snakemake.input.reference)  # the curves of the plots, solved by its own rule
 optional["references"] = report_references(table, optional["reference"])  # what the report shows of the solver
 write_report(ReportInputs(table, checks, verdict, pd.read_csv(snakemake.input.series), timing, not_run, failed_runs,
