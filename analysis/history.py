@@ -447,6 +447,54 @@ def plot_history(table: pd.DataFrame, path) -> None:
     plt.close(fig)
 
 
+def oblique_check(model: str, geometry: str) -> str:
+    """The history's check of a tangential model in one geometry: 'oblique <model> (<geometry>)'.
+
+    Parameters
+    ----------
+    model : str
+        The registry name ('lammps:mindlin').
+    geometry : str
+        'sphere-plane' or 'sphere-sphere'.
+    """
+    return f"oblique {model.split(':', 1)[1]} ({geometry})"
+
+
+def oblique_history_rows(base: dict, checks: pd.DataFrame, refused: dict, tolerance: float) -> list[dict]:
+    """One history row per tangential model and geometry of a release: 'pass' where every one of its
+    oblique checks passes (`analysis.oblique.oblique_checks`), else 'fail' with the largest
+    |error| + resolution and the first failure; 'not available' for the models the release lacks.
+
+    Parameters
+    ----------
+    base : dict
+        The release's columns: code, release, build, banner, date.
+    checks : DataFrame
+        The oblique checks of the release's runs.
+    refused : dict
+        {(case, model): why} of `engines.oblique_plan.ObliquePlan`.
+    tolerance : float
+        The oblique gate's tolerance [-].
+    """
+    rows = []
+    judged = checks[checks.status != "NOT AVAILABLE"]  # those are `refused`, below
+    for (model, geometry), g in judged.groupby(["model", "geometry"], sort=False):
+        bad = g[g.status != "PASS"]
+        worst = (g.error.abs() + g.resolution).max()
+        if len(bad):
+            first = bad.iloc[0]
+            detail = (f"{len(bad)} of {len(g)} checks fail; first: {first.quantity} at {first.angle:.4g} deg: "
+                      f"{first.detail}").splitlines()[0]
+            rows.append(history_row(base, oblique_check(model, geometry), "fail", detail, error=worst,
+                                    tolerance=tolerance))
+        else:
+            rows.append(history_row(base, oblique_check(model, geometry), "pass", f"{len(g)} checks pass",
+                                    error=worst, tolerance=tolerance))
+    for (_, model), why in refused.items():
+        rows.append(history_row(base, f"oblique {model.split(':', 1)[1]}", "not available", why))
+    return rows
+
+
 def history_row(base: dict, check: str, status: str, detail: str = "", error: float = math.nan,
                 resolution: float = math.nan, tolerance: float = math.nan) -> dict:
     """One row of `COLUMNS`: `base` (code, release, build, banner, date) and one check's result;

@@ -431,4 +431,8 @@ def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failure
                          "geometry": run.pair.geometry, "angle": run.angle, "spin": run.spin, "ranks": run.ranks,
                          "quantity": "run", "error": math.nan, "resolution": math.nan,
                          "status": "KNOWN DEFECT" if known else "FAIL", "detail": detail})
+    for (case, model), why in (planned.refused.items() if planned is not None else ()):
+        rows.append({"build": getattr(planned, "build", ""), "case": case, "model": model, "geometry": "any",
+                     "angle": math.nan, "spin": math.nan, "ranks": 1, "quantity": "run", "error": math.nan,
+                     "resolution": math.nan, "status": "NOT AVAILABLE", "detail": why})
     return pd.DataFrame(rows, columns=CHECK_COLUMNS)

@@ -63,6 +63,8 @@ class EngineCode:
     oblique_driver : str
         'module:function' of its oblique sweep runner (`engines.oblique_run.ObliqueRun` runs,
         called as `driver`), '' where the study does not yet run the code's tangential models.
+    oblique_unavailable : dict
+        {normal law: reason} for the normal laws its oblique runs cannot have.
     decks : tuple of str
         Glob patterns (relative to the project) of the files its runs read.
     cost : EngineCost
@@ -110,6 +112,7 @@ class EngineCode:
     #: ((year, month) of its version), e.g. YADE's clipped viscoelastic force from 2024.02a.
     native: dict[str, tuple[tuple[int, int], str]] = field(default_factory=dict)
     oblique_driver: str = ""
+    oblique_unavailable: dict[str, str] = field(default_factory=dict)
 
     def supplied_in(self, version: str) -> dict[str, str]:
         """`supplied` of the release whose version line is `version` ('YADE 2025.2.0 (...)'): the
@@ -195,6 +198,9 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         parameters=model_to_engine.yade_viscoelastic_hertz,
         driver="engines.yade:run_yade", decks=("cases/decks/yade/*.py",),
         oblique_driver="engines.yade_oblique:run_yade_oblique",
+        oblique_unavailable={law: "YADE's Coulomb cap would not see the study's own damping force (2023.02a), and its "
+                                  "own MindlinPhys.beta clips the force at zero (2025.2.0): oblique runs are elastic "
+                                  "only (engines/yade_oblique.py)" for law in ("viscoelastic", "viscoelastic_clipped")},
         default_law="Hertz-Mindlin (`Ip2_FrictMat_FrictMat_MindlinPhys`) with `en`",
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=60e-6)),
     EngineCode(

@@ -25,11 +25,15 @@ class ObliquePlan:
     runs : list of ObliqueRun
         Every rung of every ladder.
     refused : dict
-        {(case, model): why} for the build's code's models its release lacks.
+        {(case, model): why} for the build's code's models its release lacks, or the case's normal law
+        its oblique driver cannot run.
+    build : str
+        The build id.
     """
 
     runs: list[ObliqueRun] = field(default_factory=list)
     refused: dict = field(default_factory=dict)
+    build: str = ""
 
 
 def normal_law(case) -> str:
@@ -56,7 +60,9 @@ def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,))
     -------
     ObliquePlan
     """
-    plan = ObliquePlan()
+    from .codes import CODES
+
+    plan = ObliquePlan(build=build)
     models, missing = models_for(code, banner)
     for case in cases:
         if not case.is_oblique:
@@ -64,6 +70,10 @@ def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,))
         for name, why in missing.items():
             plan.refused[(case.name, name)] = why
         law = normal_law(case)
+        if law in CODES[code].oblique_unavailable:
+            for model in models:
+                plan.refused[(case.name, model.name)] = f"{law}: {CODES[code].oblique_unavailable[law]}"
+            continue
         for pair in case.pairs:
             for impact in case.oblique_impacts():
                 for model in models:

@@ -34,8 +34,10 @@ def verdict_of(checks: pd.DataFrame) -> dict:
     """
     counts = checks.status.value_counts().to_dict() if len(checks) else {}
     failed = int(counts.get("FAIL", 0))
-    return {"verdict": "PASS" if len(checks) and not failed else "FAIL", "checks": int(len(checks)),
-            "passed": int(counts.get("PASS", 0)), "failed": failed, "known_defects": int(counts.get("KNOWN DEFECT", 0))}
+    judged = sum(int(counts.get(s, 0)) for s in ("PASS", "FAIL", "KNOWN DEFECT"))
+    return {"verdict": "PASS" if judged and not failed else "FAIL", "checks": judged,
+            "passed": int(counts.get("PASS", 0)), "failed": failed, "known_defects": int(counts.get("KNOWN DEFECT", 0)),
+            "not_available": int(counts.get("NOT AVAILABLE", 0))}
 
 
 def conformance_matrix(checks: pd.DataFrame) -> pd.DataFrame:
@@ -50,6 +52,9 @@ def conformance_matrix(checks: pd.DataFrame) -> pd.DataFrame:
         return pd.DataFrame()
 
     def cell(g):
+        if (g.status == "NOT AVAILABLE").all():
+            return "n/a: " + "; ".join(sorted(set(g.detail)))[:120]
+        g = g[g.status != "NOT AVAILABLE"]
         n, failed, known = len(g), int((g.status == "FAIL").sum()), int((g.status == "KNOWN DEFECT").sum())
         if failed:
             return f"FAIL {failed} of {n}"
@@ -177,10 +182,11 @@ def junit_text(checks: pd.DataFrame) -> str:
     """
     import xml.etree.ElementTree as ET
 
-    suite = ET.Element("testsuite", name="hertz-dem-oblique", tests=str(len(checks)),
+    judged = checks[checks.status != "NOT AVAILABLE"] if len(checks) else checks
+    suite = ET.Element("testsuite", name="hertz-dem-oblique", tests=str(len(judged)),
                        failures=str(int((checks.status == "FAIL").sum()) if len(checks) else 0),
                        skipped=str(int((checks.status == "KNOWN DEFECT").sum()) if len(checks) else 0))
-    for r in checks.itertuples():
+    for r in checks[checks.status != "NOT AVAILABLE"].itertuples() if len(checks) else ():
         case = ET.SubElement(suite, "testcase", classname=f"{r.build}.{r.model}.{r.geometry}",
                              name=f"{r.case} angle {r.angle:.6g} spin {r.spin:g} np{r.ranks} {r.quantity}")
         if r.status == "FAIL":
@@ -236,7 +242,7 @@ def write_oblique_report(summary: pd.DataFrame, limits: pd.DataFrame, checks: pd
     if figures:
         lines += ["## Against incidence (Chung & Ooi's test 4)", ""]
         lines += [f"![{f}](figures/{f})" for f in figures] + [""]
-    failed = checks[checks.status != "PASS"] if len(checks) else checks
+    failed = checks[~checks.status.isin(["PASS", "NOT AVAILABLE"])] if len(checks) else checks
     lines += ["## Checks that do not pass", ""]
     if len(failed):
         cols = ["build", "model", "geometry", "angle", "spin", "quantity", "status", "detail"]

@@ -85,11 +85,15 @@ rule history_install:
 
 rule history_runs:
     """One release's checks (analysis.history): the reduced cases' viscoelastic ladders, its
-    restitution keywords' promise, and its code's regression cases; results/history/<release>.csv."""
+    restitution keywords' promise, its code's regression cases, and each of its tangential models on
+    the oblique reduced set (analysis.oblique); results/history/<release>.csv."""
     input:
         install=f"{HISTORY_DIR}/installs/{{release}}.json",
         cases=HISTORY["cases"],
         decks=lambda w: DECKS[HISTORY_RELEASES[w.release]["code"]],
+        # the oblique reduced set's cases, for codes with an oblique driver (analysis.oblique)
+        oblique_cases=lambda w: (OBLIQUE["reduced"]["cases"] if config.get("oblique")
+                                 and CODES[HISTORY_RELEASES[w.release]["code"]].oblique_driver else []),
     output:
         rows=f"{HISTORY_DIR}/{{release}}.csv",
         runs=directory(f"{HISTORY_DIR}/{{release}}/runs"),
@@ -97,6 +101,7 @@ rule history_runs:
     log: f"logs/{_HISTORY_SUB}/{{release}}.log"
     benchmark: f"{_HISTORY_BENCH}/history_runs/{{release}}.tsv"
     params: spec=lambda w: HISTORY_RELEASES[w.release], history=HISTORY, ladder=config["ladder"],
+            oblique=config.get("oblique"),
             tolerance=config["tolerance"], timeout_floor_s=config["engine_timeout_floor_s"]
     group: "history"
     threads: lambda w: CODES[HISTORY_RELEASES[w.release]["code"]].processes

@@ -90,6 +90,27 @@ else:
                 row.update(status="fail", detail=f"the run as a user writes it did not complete (engine log: {where}; "
                                                  f"{snakemake.log[0]}); its control did")
             rows.append(row)
+    if snakemake.input.oblique_cases:
+        # Each tangential model of the release on the oblique reduced set, gated as `snakemake oblique`
+        # gates it, no defect declared: a defect of a release is the history's finding.
+        from contact_model import load_case
+        from engines.oblique_plan import oblique_plan
+        from engines.oblique_sweep import run_oblique_sweep
+        from analysis.history import oblique_history_rows
+        from analysis.oblique import limit_rows, oblique_checks, rung_rows
+
+        o = snakemake.params.oblique
+        oblique = oblique_plan([load_case(p) for p in snakemake.input.oblique_cases], code, build.id,
+                               install["banner"], o["ladder"])
+        keep = set(o["reduced"]["angles"])
+        oblique.runs = [r for r in oblique.runs if round(r.angle, 6) in keep]
+        swept = run_oblique_sweep(build, oblique.runs, f"{snakemake.output.runs}/oblique",
+                                  timeout_floor_s=snakemake.params.timeout_floor_s)
+        seconds += swept.engine_seconds
+        dumps += list(swept.dumps.values())
+        checked = oblique_checks(limit_rows(rung_rows(oblique.runs, swept)), float(o["tolerance"]), planned=oblique,
+                                 failures=swept.failures)
+        rows += oblique_history_rows(base, checked, oblique.refused, float(o["tolerance"]))
 rows += [history_row(base, check, "not available", why) for check, why in unavailable.items()]
 pd.DataFrame(rows, columns=COLUMNS).to_csv(snakemake.output.rows, index=False, float_format="%.12g")
 write_manifest(snakemake.output.manifest, dumps, failed, case="history", build=base["build"], engine=code,
