@@ -111,6 +111,15 @@ KNOWN_DEFECTS = {d.check: d for d in (
            "LAMMPS's `damping tsuji` applies Tsuji's alpha(e), fitted with the particle's mass, to the reduced "
            "mass M*, and so damps sqrt(2) too little: told 0.5 it restitutes 0.616. "
            + KEYWORDS["lammps:tsuji"].source),
+    Defect("oblique hertz/history (sphere-plane)", ("lammps",),
+           "every LAMMPS release since the GRANULAR refactor carries it (all the study ran: 2 Aug 2023, 29 Aug 2024, "
+           "4 Feb 2025 and 22 Jul 2025; 29 Sep 2021 and 23 Jun 2022 run it)",
+           "no release the study can install fixes it",
+           "LAMMPS's classic `fix wall/gran hertz/history kn kt gamman gammat xmu dampflag` with gamman = 0 (an "
+           "undamped wall) stops with 'Non-numeric atom coords' at the first contact step: since the GRANULAR "
+           "refactor (PR #3512) the classic wall is a GranularModel whose tangential damping ratio is set to "
+           "gammat / gamman = 0/0 (src/GRANULAR/granular_model.cpp:221 and :225, define_classic_model, develop "
+           "@ec2fece8db, Sep 2024); before it fix_wall_gran.cpp's own hertz_history ran the same contact"),
     Defect("Thornton fit promise", ("yade", "kratos"),
            "every YADE and Kratos DEM release the study ran carries it (YADE 2023.02a and 2025.2.0 `en`, Kratos "
            "9.3, 9.5 and 10.4 `COEFFICIENT_OF_RESTITUTION`), for it is Thornton et al.'s fit itself",
