@@ -171,7 +171,8 @@ class ObliqueResult:
     phases : tuple of (str, float)
         ("stick" | "slip", start time [s]) of each phase, in order.
     history_after : float
-        The history left at delta = 0: xi [m] or F_h [N].
+        The history left at delta = 0: xi [m] or F_h [N] (nan where a Mindlin displacement history
+        slides at the end: k_t = 0 there, and xi = -F_el/k_t has no value).
     """
 
     T: float

@@ -501,6 +501,15 @@ def test_the_force_law_caps_and_resets():
     assert cap_force(yade, history=-8.0, k_t=1e7, v_s=0.1, eta_t=20.0, mu=0.5, F_c=10.0)[0] == -5.0
 
 
+@pytest.mark.parametrize("name", ["yade-pair-10deg", "lammps-xt-viscoelastic-pair", "rescale-elastic-cap-six-phases"])
+def test_two_spheres_keep_their_tangential_momentum(name):
+    """F_t on one, -F_t on the other: m1 v_y1 + m2 v_y2 is kept to round-off (1e-12 of m1 v_t)."""
+    case = INDEPENDENT_CASES[name]
+    r = solve_oblique(**case)
+    p0 = case["m1"] * case["v_t"]
+    assert case["m1"] * r.vt_after + case["m2"] * r.vt2_after == pytest.approx(p0, rel=1e-12)
+
+
 def test_a_chatter_is_refused_by_name():
     """YADE's form (damping only while sticking, elastic cap) at 0.5 degrees with backspin: F_t jumps
     at each transition, and at one point neither phase holds (the slide would stop, the stick would
