@@ -77,6 +77,20 @@ the sticking motion (delta = v_n t, H from v_s t): for a Mindlin displacement hi
 damping it is (6 G*/E*) |v_s|/v_n, and the contact slides from the start iff that exceeds mu.
 It is evaluated at t = 1e-12 delta_e/v_n, where the corrections are ~1e-12.
 
+Where the cap vanishes
+----------------------
+At the normal force's zero (F0) C has a kink (|F_n|, max(F_n, 0)), so a transition may fall
+exactly there; F0 is then recorded at the same point. If C stays zero from F0 to the end (a clipped
+law with a cap on the total force, or the ``total_clipped`` cap), the contact slides to the end with
+F_t = 0 (total cap) or the damping alone (elastic cap), whatever the direction, and no transition is
+left (LAMMPS: every trial exceeds a zero cap). Near delta = 0 both X and C vanish: transitions in the
+last 1e-12 delta_e of the overlap are not followed (their impulse is < 1e-18 F_e t_e). A phase that
+wants to leave at the point it was entered (both margins start at zero with zero slope, so round-off
+can fire them) is kept for 1e-10 of the contact without its exit event; where it keeps wanting to, or
+where F_t jumps at a transition (damping ``stick_only`` under the elastic cap), the model has no
+continuous limit there (the discrete algorithm chatters; the limit would slide along the cap with a
+force neither phase gives, a Filippov solution) and `solve_oblique` refuses it by name.
+
 How it is integrated
 --------------------
 delta^{1/2} is not smooth at either end of the contact, so, as in `reference.collision_ode`, the
@@ -157,7 +171,8 @@ class ObliqueResult:
     phases : tuple of (str, float)
         ("stick" | "slip", start time [s]) of each phase, in order.
     history_after : float
-        The history left at delta = 0: xi [m] or F_h [N].
+        The history left at delta = 0: xi [m] or F_h [N] (nan where a Mindlin displacement history
+        slides at the end: k_t = 0 there, and xi = -F_el/k_t has no value).
     """
 
     T: float
@@ -194,6 +209,9 @@ class _Model:
         # after the normal force's zero the cap stays 0 to the end: clipped, or clipped in the cap
         # (the unclipped force stays negative once it has crossed zero on the way out)
         self.capless_after_f0 = f.cap_normal != "elastic" and (self.clipped or f.cap_normal == "total_clipped")
+        # F_t jumps at a transition when the damping switches off with the slide (YADE's form): a
+        # phase that wants to leave at once is then a true chatter, not round-off
+        self.force_jumps = (f.cap == "elastic" and f.damping == "stick_only" and self.x_t * self.eta > 0.0)
         self.im1, self.iI1 = 1.0 / self.m1, 1.0 / self.I1
         self.im2 = 0.0 if self.plane else 1.0 / self.m2
         self.iI2 = 0.0 if self.plane else 1.0 / self.I2
@@ -490,9 +508,10 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
             # The phase just entered wants to leave at once: at a transition both C^2 - X^2 and the
             # slide's margin start at zero with zero slope, so round-off can fire them. The phase
             # is kept for GRACE without its exit event; a true chatter (no continuous limit: a
-            # Filippov slide on the cap, e.g. a damping that switches off with the slide) repeats.
+            # Filippov slide on the cap, e.g. a damping that switches off with the slide) repeats,
+            # and is refused (at once where F_t jumps at a transition: no round-off zero there).
             chatter += 1
-            if chatter > MAX_CHATTER:
+            if chatter > MAX_CHATTER or model.force_jumps:
                 raise RuntimeError(f"solve_oblique: stick/slip chatter at t = {t:.12g} s: the model has no "
                                    "continuous limit there (the contact would slide along the cap with a "
                                    "force neither phase gives)")
