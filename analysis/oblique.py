@@ -98,7 +98,10 @@ def errors(engine: dict, ref: dict, v_n: float, v_t: float, spin: float, R1: flo
 
 def reference_of(run, tangential_stiffness: float | None = None) -> dict:
     """The reference of an oblique run's own equations (`reference.solve_oblique`), in the
-    quantities of `records.oblique_metrics` (relative tangential velocity of the centres).
+    quantities of `records.oblique_metrics` (relative tangential velocity of the centres). Two
+    spheres: the planar motion with the turning line of centres, every quantity of the lab frame
+    as the dump records it (eps and F_max along x, vt_after and Ft_max along y); the rigid-body
+    values, of a normal that does not turn, are then an approximation (to ~delta/R).
 
     Parameters
     ----------

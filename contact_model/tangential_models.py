@@ -27,6 +27,8 @@ REGISTRY_PATH = Path(__file__).with_name("tangential_models.yaml")
 GEOMETRY_KEYS = {"pair": ("sphere-sphere",), "wall": ("sphere-plane",), "both": ("sphere-sphere", "sphere-plane")}
 #: The fields of a geometry block that make the reference's form (`reference.TangentialForm`).
 FORM_FIELDS = ("history", "stiffness", "rescale", "cap", "cap_normal", "damping", "lever_slip", "lever_torque")
+#: Fields of the form a block may leave out, and the value they then take.
+OPTIONAL_FORM_FIELDS = {"anti_ratcheting": False}
 #: How each release key of the YAML's `releases:` is named in its engine's version line.
 RELEASE_IN_BANNER = {
     "lammps-2021": "29 Sep 2021", "lammps-2022.6.23": "23 Jun 2022", "lammps-2023.8.2": "2 Aug 2023",
@@ -170,7 +172,8 @@ def form_of(name: str, geometry: str) -> TangentialForm:
         raise KeyError(f"{name} has no {geometry} contact (contact_model/tangential_models.yaml)")
     block = model.blocks[geometry]
     try:
-        return TangentialForm(**{f: block[f] for f in FORM_FIELDS})
+        return TangentialForm(**{f: block[f] for f in FORM_FIELDS},
+                              **{f: block.get(f, default) for f, default in OPTIONAL_FORM_FIELDS.items()})
     except (KeyError, ValueError, TypeError) as err:
         raise NoReference(f"{name} ({geometry}) is not a form of the reference yet: {err}") from None
 

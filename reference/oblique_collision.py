@@ -7,7 +7,8 @@ continuous limit (dt -> 0) of the model's discrete algorithm to ~1e-10 relative 
 
 Conventions (docs/physics.md, "Oblique impacts: sign conventions")
 ------------------------------------------------------------------
-The normal n = +x points from body 1 to body 2; body 1 approaches with the normal velocity
+The normal n = +x points from body 1 to body 2 (for two spheres: at touching, and n turns after;
+see "Two spheres" below); body 1 approaches with the normal velocity
 v_n > 0, so the overlap delta has d(delta)/dt = v_n at touching. The tangent is +y, spins are
 about +z (counter-clockwise positive). The contact point lies at +L_1 x from centre 1 and at
 -L_2 x from centre 2 (L_i the arms of `TangentialForm.lever_slip`), so its slip velocity is::
@@ -44,6 +45,35 @@ force moves as::
 
 with c_k = 1 for a displacement history with a Mindlin stiffness (k_t = k_t0 a changes under a
 fixed xi: -dk_t/dt xi = F_el (da/dt)/a), else 0.
+
+Two spheres: the line of centres turns
+--------------------------------------
+Two spheres are free bodies in the plane: while they slide past each other the line of centres
+turns, by ~ v_t T / (R1 + R2) over the contact (5e-3 rad for alumina at 45 deg, R = 2.5 mm,
+V = 3.9 m/s), and every quantity above is of the contact frame that turns with it: n = (cos phi,
+sin phi) = (r2 - r1)/|r2 - r1|, t = z x n = (-sin phi, cos phi), phi = 0 at touching (the centres
+on the x axis there, engines/oblique_run.py), delta = R1 + R2 - |r2 - r1|, d(delta)/dt =
+(v1 - v2).n. Body 1 gets -F_n n + F_t t, body 2 the opposite; the torques are the arms' as above.
+The state carries v_yi := v_i.t, the components of the bodies' velocities along the turning
+tangent, and phi; the normal components follow from the centre of mass, which moves at V_cm =
+m1 (v_n, v_t)/(m1 + m2) (body 2 at rest at the start): v_i.n = V_cm.n +- (M*/m_i) d(delta)/dt.
+With v_c = v_y1 - v_y2 = (v1 - v2).t and r = R1 + R2 - delta::
+
+    d(phi)/dt = -v_c / r,      d^2(delta)/dt^2 = -F_n/M* - v_c^2 / r      (centripetal term)
+    dv_yi/dt = (+-F_t/m_i) - d(phi)/dt (v_i.n)   =>   dv_c/dt = F_t/M* + v_c d(delta)/dt / r
+
+The slip v_s = alpha v_c + L_1 w_1 + L_2 w_2 (alpha = (R1 + R2)/(R1 + R2 - delta) with
+`TangentialForm.anti_ratcheting`, YADE's, else 1) and the history are of the turning frame: the history is a
+scalar along t, which both engines' rotations of it keep (LAMMPS projects the stored vector onto
+the new tangent plane and rescales it to its former magnitude; YADE rotates its shear force with
+the contact: in the plane, both keep the component along t), so its rate is the one above.
+The results are the lab frame's, as an engine's dump gives them (records/oblique_metrics.py):
+eps = -(v1 - v2).x / v_n, v_t' and v_t2' the bodies' y velocities, v_s' = (v_y1 - v_y2)_lab
++ R1 w1 + R2 w2, F_max the largest x component of the contact force on body 2 (F_n cos phi +
+F_t sin phi), Ft_max the largest |y component| of that on body 1 (|F_t cos phi - F_n sin phi|,
+not 0 without friction). T_F0 stays the zero of the normal force F_n itself (an engine's F0,
+read on the x component, differs from it by F_t sin phi at that instant). A plane does not move and
+its normal does not turn: the equations above with 1/m_2 = 0 and phi = 0 (exact).
 
 Sliding, and the conditions of the transitions
 ----------------------------------------------
@@ -103,7 +133,9 @@ hand-over points are terminal events located on the dense output (Brent to 4 ulp
 integration restarts there: no step straddles a kink. The maxima of F_n and |F_t| are found on the
 dense output (bounded Brent). tests/test_oblique_reference.py checks it against an independent
 integration (DOP853 in t alone, events from a finite-difference probe of the free evolution),
-against the discrete LAMMPS-like algorithm as dt -> 0, and against the closed forms.
+against the discrete LAMMPS-like algorithm as dt -> 0, and against the closed forms; for two
+spheres against an integration of the same planar motion in lab-frame Cartesian coordinates with a
+vector history that turns with the contact, and the conservation laws.
 """
 
 from __future__ import annotations
@@ -152,27 +184,34 @@ class ObliqueResult:
         Time [s] at which delta, and the unclipped normal force, return to zero (T_F0 = T_x0
         without normal damping).
     eps : float
-        Normal restitution -v_n'/v_n [-] (v_n' the normal relative velocity at separation).
+        Normal restitution -v_n'/v_n [-] (v_n' the normal relative velocity at separation; two
+        spheres: -(v_x1' - v_x2')/v_n, the lab x component).
     delta_max : float
         Maximum overlap [m].
     F_max : float
-        Maximum normal force [N].
+        Maximum normal force [N] (two spheres: of the contact force's lab x component on body 2).
     vt_after, omega_after : float
-        Body 1's centre velocity along +y [m/s] and spin about +z [rad/s] after the contact.
+        Body 1's centre velocity along +y [m/s] (lab) and spin about +z [rad/s] after the contact.
     vt2_after, omega2_after : float
-        The same for body 2 (0 for a plane).
+        The same for body 2 (0 for a plane), in the frame where body 2 was at rest before the
+        contact: vt_after - vt2_after is the relative v_y1' - v_y2' an engine records.
     e_t : float
         Tangential restitution of the contact point v_s'/v_s [-] (positive when the slip keeps its
-        direction; nan without initial slip). At separation every arm is R.
+        direction; nan without initial slip). At separation every arm is R. Two spheres: v_s' =
+        (v_y1' - v_y2') + R1 w1' + R2 w2' with the lab y velocities.
     rebound_angle : float
         atan2(v_s', v_n') [degrees], v_n' = eps v_n the normal separation speed.
     Ft_max : float
-        Maximum |F_t| over the contact [N].
+        Maximum |F_t| over the contact [N] (two spheres: of the lab y component of the contact
+        force on body 1, normal force included, so not 0 without friction).
     phases : tuple of (str, float)
         ("stick" | "slip", start time [s]) of each phase, in order.
     history_after : float
         The history left at delta = 0: xi [m] or F_h [N] (nan where a Mindlin displacement history
         slides at the end: k_t = 0 there, and xi = -F_el/k_t has no value).
+    turn_after : float
+        The angle [rad] the line of centres turned through over the contact, counter-clockwise
+        (0 for a plane).
     """
 
     T: float
@@ -190,13 +229,15 @@ class ObliqueResult:
     Ft_max: float
     phases: tuple
     history_after: float
+    turn_after: float = 0.0
 
 
 class _Model:
     """The contact's constants and its right-hand side in physical variables.
 
-    The physical state is y = (delta, d delta/dt, v_y1, w_1, v_y2, w_2, H); the mode is
-    (sliding, s). Every method is a pure function of (y, mode)."""
+    The physical state is y = (delta, d delta/dt, v_y1, w_1, v_y2, w_2, H), and for two spheres
+    phi, the angle of the line of centres, with v_yi the components along the turning tangent
+    (module docstring, "Two spheres"); the mode is (sliding, s). Every method is a pure function of (y, mode)."""
 
     def __init__(self, p: dict):
         self.__dict__.update(p)
@@ -215,10 +256,17 @@ class _Model:
         self.im1, self.iI1 = 1.0 / self.m1, 1.0 / self.I1
         self.im2 = 0.0 if self.plane else 1.0 / self.m2
         self.iI2 = 0.0 if self.plane else 1.0 / self.I2
+        if not self.plane:
+            # two spheres: the line of centres turns (module docstring, "Two spheres"); the centre of
+            # mass moves at V_cm (body 2 at rest at the start) and each body's normal velocity is
+            # V_cm.n + (M*/m_i) (+-d(delta)/dt)
+            self.R12 = self.R1 + self.R2
+            self.vcm = (self.m1 * self.v_n / (self.m1 + self.m2), self.m1 * self.v_t / (self.m1 + self.m2))
+            self.share1, self.share2 = self.M_star / self.m1, self.M_star / self.m2
 
     def local(self, y, sliding: bool, s: float) -> dict:
         """Every force and rate at state y in mode (sliding, s)."""
-        d, dd, vy1, w1, vy2, w2, H = y
+        d, dd, vy1, w1, vy2, w2, H = y[:7]
         f = self.form
         d = max(d, 0.0)
         rd = math.sqrt(d)
@@ -228,6 +276,12 @@ class _Model:
         F_raw = F_el_n + eta_n * dd
         F_n = max(F_raw, 0.0) if self.clipped else F_raw
         ddd = -F_n / self.M_star
+        turn = 0.0  # d(phi)/dt, the line of centres' rate of turn [rad/s]
+        if not self.plane:  # |r2 - r1| = R1 + R2 - delta, the centripetal term of the relative motion
+            v_c = vy1 - vy2
+            r = self.R12 - d
+            turn = -v_c / r
+            ddd -= v_c * v_c / r
         if f.cap_normal == "total_abs":
             F_c = abs(F_n)
         elif f.cap_normal == "total_clipped":
@@ -240,7 +294,12 @@ class _Model:
         L2s, L2t = self.R2 - self.sh1s * d, self.R2 - self.sh1t * d
         if self.plane:
             L2s = L2t = 0.0
-        v_s = (vy1 + L1s * w1) - (vy2 - L2s * w2)
+        alpha = 1.0  # YADE's anti-ratcheting factor on the translational slip (two spheres)
+        if f.anti_ratcheting and not self.plane:
+            alpha = self.R12 / (self.R12 - d)
+            v_s = alpha * (vy1 - vy2) + L1s * w1 + L2s * w2
+        else:
+            v_s = (vy1 + L1s * w1) - (vy2 - L2s * w2)
         eta_stick = 0.0 if f.damping == "none" else self.x_t * eta_n
         eta_slide = 0.0 if f.damping == "stick_only" else eta_stick
         if not sliding:
@@ -257,7 +316,7 @@ class _Model:
             X = F_el
         return dict(d=d, rd=rd, dd=dd, ddd=ddd, a=a, F_el_n=F_el_n, F_raw=F_raw, F_n=F_n, F_c=F_c, cap=cap,
                     k_t=k_t, L1s=L1s, L1t=L1t, L2s=L2s, L2t=L2t, w1=w1, w2=w2, v_s=v_s, eta_stick=eta_stick,
-                    F_el=F_el, F_t=F_t, X=X)
+                    F_el=F_el, F_t=F_t, X=X, turn=turn, alpha=alpha)
 
     def rates(self, y, sliding: bool, s: float, q: dict | None = None) -> np.ndarray:
         """dy/dt."""
@@ -268,9 +327,27 @@ class _Model:
             dH = q["v_s"] if self.form.history == "displacement" else -q["k_t"] * q["v_s"]
             if self.form.rescale and q["dd"] < 0.0 and q["d"] > 0.0:
                 dH += y[6] * q["dd"] / (2.0 * q["d"])
-        return np.array([q["dd"], q["ddd"],
-                         F_t * self.im1, q["L1t"] * F_t * self.iI1,
-                         -F_t * self.im2, q["L2t"] * F_t * self.iI2, dH])
+        if self.plane:
+            return np.array([q["dd"], q["ddd"],
+                             F_t * self.im1, q["L1t"] * F_t * self.iI1,
+                             -F_t * self.im2, q["L2t"] * F_t * self.iI2, dH])
+        # the frame turns: d(v_i.t)/dt = a_i.t - turn (v_i.n), v_i.n = V_cm.n +- (M*/m_i) d(delta)/dt
+        turn, dd = q["turn"], q["dd"]
+        c, s_ = math.cos(y[7]), math.sin(y[7])
+        v_cm_n = self.vcm[0] * c + self.vcm[1] * s_
+        return np.array([dd, q["ddd"],
+                         F_t * self.im1 - turn * (v_cm_n + self.share1 * dd), q["L1t"] * F_t * self.iI1,
+                         -F_t * self.im2 - turn * (v_cm_n - self.share2 * dd), q["L2t"] * F_t * self.iI2, dH,
+                         turn])
+
+    def lab_forces(self, y, q: dict) -> tuple[float, float]:
+        """(x component of the contact force on body 2, |y component of that on body 1|) [N]: what
+        an engine's dump records (records/oblique_metrics.py); the plane's are F_n and |F_t|."""
+        if self.plane:
+            return q["F_n"], abs(q["F_t"])
+        c, s_ = math.cos(y[7]), math.sin(y[7])
+        # on body 1: -F_n n + F_t t, n = (cos phi, sin phi), t = (-sin phi, cos phi); body 2 the opposite
+        return q["F_n"] * c + q["F_t"] * s_, abs(-q["F_n"] * s_ + q["F_t"] * c)
 
     def cap_rate_scaled(self, q: dict) -> float:
         """delta^{1/2} dC/dt, C = mu F_c [N/s m^{1/2}]."""
@@ -294,8 +371,15 @@ class _Model:
         dX = -q["k_t"] * q["v_s"] * rd + (self.c_k + r) * q["F_el"] * half_rate
         if self.form.cap == "total":
             F_t = q["F_t"]
-            dv_s = (F_t * (self.im1 + q["L1s"] * q["L1t"] * self.iI1 + self.im2 + q["L2s"] * q["L2t"] * self.iI2)
-                    - self.sh1s * dd * q["w1"] - (0.0 if self.plane else self.sh1s * dd * q["w2"]))
+            if self.plane:
+                dv_s = (F_t * (self.im1 + q["L1s"] * q["L1t"] * self.iI1 + self.im2 + q["L2s"] * q["L2t"] * self.iI2)
+                        - self.sh1s * dd * q["w1"])
+            else:  # alpha (v_y1 - v_y2), the frame turning: d(v_y1 - v_y2)/dt = F_t/M* - turn d(delta)/dt
+                alpha, v_c = q["alpha"], y[2] - y[4]
+                d_alpha = (alpha * alpha / self.R12 * dd) if self.form.anti_ratcheting else 0.0
+                dv_s = (alpha * (F_t * (self.im1 + self.im2) - q["turn"] * dd) + d_alpha * v_c
+                        + F_t * (q["L1s"] * q["L1t"] * self.iI1 + q["L2s"] * q["L2t"] * self.iI2)
+                        - self.sh1s * dd * (q["w1"] + q["w2"]))
             dX -= q["eta_stick"] * (half_rate * q["v_s"] + rd * dv_s)
         return s * dX - self.cap_rate_scaled(q)
 
@@ -323,7 +407,7 @@ class _Model:
             H0 = -self.k_t0 * math.sqrt(self.R_star * self.v_n) * v_s0 * (2.0 / 3.0) * t0 ** 1.5
         else:
             H0 = -self.k_t0 * v_s0 * t0
-        y0 = np.array([self.v_n * t0, self.v_n, self.v_t, self.w1, 0.0, 0.0, H0])
+        y0 = np.array([self.v_n * t0, self.v_n, self.v_t, self.w1, 0.0, 0.0, H0] + ([] if self.plane else [0.0]))
         q = self.local(y0, False, 0.0)
         if q["X"] ** 2 > q["cap"] ** 2 or self.mu == 0.0:
             return True, math.copysign(1.0, q["X"])
@@ -396,7 +480,10 @@ def solve_oblique(*, geometry: str, R1: float, m1: float, R2: float, m2: float, 
     V = math.hypot(v_n, v_t + R1 * w1)
     F_e = model.k_n * delta_e ** 1.5
     H_scale = V * t_e if form.history == "displacement" else F_e
-    scale = np.array([delta_e, v_n, V, V / R1, V, V / (R1 if plane else R2), H_scale])
+    scale = [delta_e, v_n, V, V / R1, V, V / (R1 if plane else R2), H_scale]
+    if not plane:  # the line of centres' angle [rad]: it turns by ~ V t_e / (R1 + R2)
+        scale.append(V * t_e / (R1 + R2))
+    scale = np.array(scale)
     return _integrate(model, scale, t_e, delta_e)
 
 
@@ -429,7 +516,7 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
     sliding, s = model.first_phase()
     phases = [("slip" if sliding else "stick", 0.0)]
     kind, t = "s", 0.0
-    y = np.array([0.0, model.v_n, model.v_t, model.w1, 0.0, 0.0, 0.0])
+    y = np.array([0.0, model.v_n, model.v_t, model.w1, 0.0, 0.0, 0.0] + ([] if model.plane else [0.0]))
     delta_max = math.nan
     T_F0 = math.nan
     fn_crossed = model.eta == 0.0  # the force zero is an event only with a dissipative term
@@ -557,8 +644,16 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
     if sliding:  # the history of a slide is where the cap holds it (undefined for xi when k_t = 0)
         y = y.copy()
         y[6] = model.history_at(y, True, s) if model.local(y, True, s)["k_t"] > 0 else math.nan
-    eps = -y[1] / model.v_n
     vy1, w1, vy2, w2 = y[2:6]
+    if model.plane:
+        vn_after = -y[1]
+    else:  # the lab frame: n = (cos phi, sin phi), t = (-sin phi, cos phi)
+        c, s_ = math.cos(y[7]), math.sin(y[7])
+        v_cm_n = model.vcm[0] * c + model.vcm[1] * s_
+        vn1, vn2 = v_cm_n + model.share1 * y[1], v_cm_n - model.share2 * y[1]
+        vn_after = -((vn1 - vn2) * c - (vy1 - vy2) * s_)  # -(v1 - v2).x
+        vy1, vy2 = vn1 * s_ + vy1 * c, vn2 * s_ + vy2 * c
+    eps = vn_after / model.v_n
     R2 = 0.0 if model.plane else model.R2
     v_s_after = (vy1 + model.R1 * w1) - (vy2 - R2 * w2)
     e_t = v_s_after / model.v_s0 if model.v_s0 != 0.0 else math.nan
@@ -568,18 +663,20 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
                          eps=float(eps), delta_max=float(delta_max), F_max=float(F_max), vt_after=float(vy1),
                          omega_after=float(w1), vt2_after=float(vy2), omega2_after=float(w2), e_t=float(e_t),
                          rebound_angle=math.degrees(math.atan2(v_s_after, eps * model.v_n)), Ft_max=float(Ft_max),
-                         phases=phases, history_after=float(y[6]))
+                         phases=phases, history_after=float(y[6]),
+                         turn_after=0.0 if model.plane else float(y[7]))
 
 
 def _maxima(model, pieces, scale, t_e, delta_e) -> tuple[float, float]:
-    """max F_n and max |F_t| [N] over the pieces' dense outputs: the best of SAMPLES points a
-    piece, refined by bounded Brent within its neighbours."""
+    """max F_n and max |F_t| [N] over the pieces' dense outputs (two spheres: of the lab frame's
+    components, `_Model.lab_forces`): the best of SAMPLES points a piece, refined by bounded Brent
+    within its neighbours."""
 
     def value(piece, w, which):
         kind, sol, sliding, s, _, _ = piece
         _, y = _to_phys(kind, w, sol(w), scale, t_e, delta_e)
         q = model.local(y, sliding, s)
-        return q["F_n"] if which == "n" else abs(q["F_t"])
+        return model.lab_forces(y, q)[0 if which == "n" else 1]
 
     best = []
     for which in ("n", "t"):

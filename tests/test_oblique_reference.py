@@ -3,10 +3,18 @@ against what is known without them:
 
 - an independent integration written here (DOP853 in t alone from touching to delta = 0, its own
   force law, stick -> slip on |X| - C, slip -> stick from a central finite-difference probe of
-  the sticking flow rather than the module's analytic rates): agreement to 1e-8 relative in
-  vt_after, omega_after, e_t, T and eps (measured: 3e-15 to 1.5e-11), and in the phase times to
-  1e-8 of the contact time (measured: < 1e-11 of it; the independent one, in t from touching, is
-  the less accurate near t = 0);
+  the sticking flow rather than the module's analytic rates; two spheres in the lab frame's
+  Cartesian coordinates with a vector history turned with the contact, `IndependentPlanar`, where
+  solve_oblique follows the turning contact frame): agreement to 1e-9 relative in vt_after,
+  omega_after, e_t, T and eps (measured: 2e-16 to 2e-10, the largest e_t of YADE's pair form), and
+  in the phase times to 1e-8 of the contact time (measured: < 3e-11 of it, but 1.3e-9 for the
+  linear spring on the plane; the independent one, in t from touching, is the less accurate near
+  t = 0);
+- two spheres: the line of centres turns (`reference.oblique_collision`, "Two spheres"): without
+  friction |v1 - v2| and the momentum are kept and nothing spins, while v_y1 - v_y2 gains 4.1e-3
+  at 45 deg (alumina; LAMMPS and YADE measure the same to 2e-12 in the limit dt -> 0); with the
+  torque arms R - delta/2 (the contact point halfway, LAMMPS's pair) the angular momentum is kept;
+  the plane's results are those of the fixed normal, bitwise;
 - the discrete algorithm of the engines (velocity Verlet, history advanced as if sticking, trial
   force, cap, history reset; `cap_force`) as dt -> 0, four forms: it converges to solve_oblique;
 - the closed forms: a contact that slides throughout (rigid_body_sliding, to 1e-10), mu = 0, the
@@ -20,6 +28,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from contact_model.tangential_models import form_of
 from reference import ObliqueResult, TangentialForm, rigid_body_sliding, solve_collision, solve_oblique
 from reference.tangential_forms import cap_force
 
@@ -121,6 +130,27 @@ class Independent:
         return np.array([y[1], -Fn / c["M_star"], Ft / c["m1"], L1t * Ft / self.I1,
                          0.0 if self.plane else -Ft / c["m2"], L2t * Ft / self.I2, dH])
 
+    def overlap(self, y):
+        return y[0]
+
+    def rate(self, y):
+        return y[1]
+
+    def raw(self, y):
+        """The unclipped normal force [N]."""
+        d = max(self.overlap(y), 0.0)
+        return self.kn * d ** 1.5 + 2 * self.c["eta"] * math.sqrt(self.c["R_star"] * d) * self.rate(y)
+
+    def initial(self):
+        c = self.c
+        return np.array([0.0, c["v_n"], c["v_t"], c["w1"], 0.0, 0.0, 0.0])
+
+    def scales(self, t_e):
+        c = self.c
+        scale = np.array([hertz_overlap(c), c["v_n"], V, V / R, V, V / R, 1.0])
+        scale[6] = V * t_e if self.f.history == "displacement" else self.kn * hertz_overlap(c) ** 1.5
+        return scale
+
     def stuck(self, y, mode):
         """The state with the history that holds a slide's elastic force, for the sticking flow."""
         _, _, _, _, Fel, kt, _ = self.forces(y, mode)
@@ -140,8 +170,7 @@ class Independent:
             return mode * X - C
 
         def side(k):
-            d = max(ys[0] + k * h * g[0], 0.0)
-            return self.kn * d ** 1.5 + 2 * self.c["eta"] * math.sqrt(self.c["R_star"] * d) * (ys[1] + k * h * g[1]) > 0
+            return self.raw(ys + k * h * g) > 0
 
         here = side(0)
         if side(1) != here or side(2) != here:
@@ -153,15 +182,14 @@ class Independent:
     def solve(self):
         c = self.c
         t_e = hertz_overlap(c) / c["v_n"]
-        y = np.array([0.0, c["v_n"], c["v_t"], c["w1"], 0.0, 0.0, 0.0])
+        y = self.initial()
         # the first phase: stick for a moment from touching and look at |X| / C
         t0 = 1e-10 * t_e
         early = solve_ivp(lambda t, y: self.rhs(t, y, 0), (0, t0), y, method="DOP853", rtol=1e-13, atol=1e-30)
         _, _, X, C, *_ = self.forces(early.y[:, -1], 0)
         mode = int(math.copysign(1, X)) if X * X > C * C else 0
         phases = [("slip" if mode else "stick", 0.0)]
-        scale = np.array([hertz_overlap(c), c["v_n"], V, V / R, V, V / R, 1.0])
-        scale[6] = V * t_e if self.f.history == "displacement" else self.kn * hertz_overlap(c) ** 1.5
+        scale = self.scales(t_e)
         h = 1e-5 * t_e
         t, passed_max, passed_f0 = 0.0, False, c["eta"] == 0
         # clipped (in the law or in the cap), C = 0 after the force zero: a slide with F_t = 0 (or
@@ -173,7 +201,7 @@ class Independent:
             evs = []
 
             def end(t, y):
-                return y[0]
+                return self.overlap(y)
             end.terminal, end.direction = True, -1
             evs.append(end)
             if mode == 0:
@@ -183,20 +211,19 @@ class Independent:
                 change.direction = 1
             else:
                 def change(t, y, m=mode):
-                    return self.probe(y, m, h) if y[0] > 2 * h * c["v_n"] else 1.0
+                    return self.probe(y, m, h) if self.overlap(y) > 2 * h * c["v_n"] else 1.0
                 change.direction = -1
             change.terminal = True
             if not free:
                 evs.append(change)
             if not passed_max:
                 def top(t, y):
-                    return y[1]
+                    return self.rate(y)
                 top.terminal, top.direction = True, -1
                 evs.append(top)
             if not passed_f0:
                 def zero(t, y, m=mode):
-                    d = max(y[0], 0.0)
-                    return self.kn * d ** 1.5 + 2 * c["eta"] * math.sqrt(c["R_star"] * d) * y[1]
+                    return self.raw(y)
                 zero.terminal, zero.direction = True, -1
                 evs.append(zero)
             sol = solve_ivp(lambda t, y, m=mode: self.rhs(t, y, m), (t, t + 10 * t_e), y, method="DOP853",
@@ -235,13 +262,92 @@ class Independent:
                     mode, free = mode or 1, True
 
 
+class IndependentPlanar(Independent):
+    """Two spheres as free bodies in the plane, written again in another formulation: the lab
+    frame's Cartesian coordinates, q = (r2 - r1) - (R1 + R2) x (small, so that delta keeps its
+    digits), both bodies' velocities (vx1, vy1, vx2, vy2), the spins, and the history as a lab
+    VECTOR (Hx, Hy) in the tangent plane, turned with the contact by dH/dt = (rate) t + Omega z x H,
+    Omega the line of centres' rate of turn (the continuous limit of LAMMPS's projection with its
+    magnitude kept and of YADE's rotation of its shear force). The normal n = (r2 - r1)/|r2 - r1|,
+    t = z x n; body 1 gets -F_n n + F_t t, body 2 the opposite. State: (qx, qy, vx1, vy1, vx2, vy2,
+    w1, w2, Hx, Hy); the events and phases are the parent's."""
+
+    def frame(self, y):
+        """(delta, d delta/dt, n, t, |r2 - r1|) of state y."""
+        R12 = self.c["R1"] + self.R2
+        qx, qy = y[0], y[1]
+        dist = math.hypot(R12 + qx, qy)
+        n = np.array([R12 + qx, qy]) / dist
+        d = -(2 * R12 * qx + qx * qx + qy * qy) / (R12 + dist)
+        return d, (y[2] - y[4]) * n[0] + (y[3] - y[5]) * n[1], n, np.array([-n[1], n[0]]), dist
+
+    def overlap(self, y):
+        return self.frame(y)[0]
+
+    def rate(self, y):
+        return self.frame(y)[1]
+
+    def forces(self, y, mode):
+        c, f = self.c, self.f
+        d, dd, n, t, dist = self.frame(y)
+        vc = (y[2] - y[4]) * t[0] + (y[3] - y[5]) * t[1]
+        if f.anti_ratcheting:
+            vc *= (c["R1"] + self.R2) / dist
+        H = y[8] * t[0] + y[9] * t[1]
+        # the parent's force law on the contact frame's scalars (d, dd, v_c as vy1, w1, 0, w2, H)
+        return super().forces(np.array([d, dd, vc, y[6], 0.0, y[7], H]), mode)
+
+    def rhs(self, t_, y, mode):
+        c, f = self.c, self.f
+        d, dd, n, t, dist = self.frame(y)
+        Fn, Ft, X, C, Fel, kt, vs = self.forces(y, mode)
+        dpos = np.array([y[4] - y[2], y[5] - y[3]])  # d(r2 - r1)/dt
+        F1 = -Fn * n + Ft * t
+        dm = max(d, 0.0)
+        L1t = c["R1"] - SHARE[f.lever_torque] * dm
+        L2t = self.R2 - SHARE[f.lever_torque] * dm
+        dH = np.zeros(2)
+        if mode == 0:
+            omega = ((c["R1"] + self.R2 + y[0]) * dpos[1] - y[1] * dpos[0]) / dist ** 2
+            H = np.array([y[8], y[9]])
+            dH = (vs if f.history == "displacement" else -kt * vs) * t + omega * np.array([-H[1], H[0]])
+            if f.rescale and dd < 0 and dm > 0:
+                dH += H * dd / (2 * dm)
+        return np.array([dpos[0], dpos[1], *(F1 / c["m1"]), *(-F1 / c["m2"]), L1t * Ft / self.I1, L2t * Ft / self.I2,
+                         dH[0], dH[1]])
+
+    def stuck(self, y, mode):
+        _, _, _, _, Fel, kt, _ = self.forces(y, mode)
+        t = self.frame(y)[3]
+        y = np.array(y, dtype=float)
+        y[8:10] = (Fel if self.f.history == "force" else -Fel / kt) * t
+        return y
+
+    def initial(self):
+        c = self.c
+        return np.array([0.0, 0.0, c["v_n"], c["v_t"], 0.0, 0.0, c["w1"], 0.0, 0.0, 0.0])
+
+    def scales(self, t_e):
+        d_e = hertz_overlap(self.c)
+        H = V * t_e if self.f.history == "displacement" else self.kn * d_e ** 1.5
+        return np.array([d_e, d_e, V, V, V, V, V / R, V / R, H, H])
+
+
 def independent(case):
-    """The independent solution as the fields of ObliqueResult it checks."""
+    """The independent solution as the fields of ObliqueResult it checks (two spheres: of the lab
+    frame, as solve_oblique gives them)."""
+    c = case
+    if c["geometry"] == "sphere-sphere":
+        out = IndependentPlanar(case).solve()
+        y = out["y"]
+        vs1 = (y[3] - y[5]) + c["R1"] * y[6] + c["R2"] * y[7]
+        return dict(vt_after=y[3], omega_after=y[6], vt2_after=y[5], omega2_after=y[7],
+                    e_t=vs1 / (c["v_t"] + c["R1"] * c["w1"]), T_x0=out["t"], eps=-(y[2] - y[4]) / c["v_n"],
+                    phases=out["phases"], y=y)
     out = Independent(case).solve()
-    y, c = out["y"], case
-    R2 = 0.0 if c["geometry"] == "sphere-plane" else c["R2"]
+    y = out["y"]
     vs0 = c["v_t"] + c["R1"] * c["w1"]
-    vs1 = y[2] + c["R1"] * y[3] - y[4] + R2 * y[5]
+    vs1 = y[2] + c["R1"] * y[3] - y[4]
     return dict(vt_after=y[2], omega_after=y[3], vt2_after=y[4], omega2_after=y[5], e_t=vs1 / vs0,
                 T_x0=out["t"], eps=-y[1] / c["v_n"], phases=out["phases"])
 
@@ -267,10 +373,17 @@ INDEPENDENT_CASES = {
 for _name, _c, _K in (
         ("clipped-cap-zero-after-F0", plane_case(10, mu=0.3, clipped=True), 0.1),
         ("clipped-in-cap-not-in-law", plane_case(20, form=MINDLIN_FORCE_RESCALE, mu=0.3, x_t=0.5), 0.1),
-        ("rescale-elastic-cap-six-phases", pair_case(20, form=TangentialForm(
+        # on the plane: the planar independent solver of two spheres (IndependentPlanar) does not
+        # follow transitions at the normal force's zero; the fixed-normal one does
+        ("rescale-elastic-cap-six-phases", plane_case(20, form=TangentialForm(
             rescale=True, cap="elastic", cap_normal="total_clipped", damping="normal_xt"), mu=0.3, x_t=0.5), 0.1),
-        ("lammps-clipped-pair", pair_case(10, form=LAMMPS, mu=0.3, clipped=True, x_t=0.5), 0.1)):
+        ("lammps-clipped-plane", plane_case(10, form=LAMMPS, mu=0.3, clipped=True, x_t=0.5), 0.1)):
     INDEPENDENT_CASES[_name] = _c | {"eta": viscosity_for(_c, _K)}
+#: Two alumina spheres of one size (the engines' pair): YADE's pair form with its anti-ratcheting
+#: factor (from the registry), frictionless, and a spinning sphere with a rescaled force history.
+INDEPENDENT_CASES["yade-registry-pair-10deg"] = pair_case(10, form=form_of("yade:mindlin", "sphere-sphere"), R2=R)
+INDEPENDENT_CASES["frictionless-pair-45deg"] = pair_case(45, mu=0.0, R2=R)
+INDEPENDENT_CASES["force-rescale-pair-spin"] = pair_case(20, form=MINDLIN_FORCE_RESCALE, w1=-300.0, mu=0.3)
 _c = pair_case(12, form=LAMMPS, mu=0.2, x_t=0.5)
 INDEPENDENT_CASES["lammps-xt-viscoelastic-pair"] = _c | {"eta": viscosity_for(_c, 0.3)}
 _c = plane_case(15, form=MINDLIN_FORCE_RESCALE, clipped=True, w1=-300.0)
@@ -286,10 +399,10 @@ def test_it_agrees_with_an_independent_integration(name):
     for (_, t), (_, t_ref) in zip(r.phases[1:], ref["phases"][1:]):  # to 1e-8 of the contact time
         assert t == pytest.approx(t_ref, rel=0, abs=1e-8 * r.T_x0)
     for key in ("vt_after", "omega_after", "e_t", "T_x0", "eps"):
-        assert getattr(r, key) == pytest.approx(ref[key], rel=1e-8, abs=1e-12), key
+        assert getattr(r, key) == pytest.approx(ref[key], rel=1e-9, abs=1e-12), key
     if case["geometry"] == "sphere-sphere":
-        assert r.vt2_after == pytest.approx(ref["vt2_after"], rel=1e-8)
-        assert r.omega2_after == pytest.approx(ref["omega2_after"], rel=1e-8)
+        assert r.vt2_after == pytest.approx(ref["vt2_after"], rel=1e-9, abs=1e-12 * V)
+        assert r.omega2_after == pytest.approx(ref["omega2_after"], rel=1e-9, abs=1e-12 * V / R)
 
 
 # --- the discrete algorithm of an engine, dt -> 0 ------------------------------------------------
@@ -371,26 +484,115 @@ def test_the_discrete_algorithm_converges_to_it(name):
 # --- closed forms ----------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("history", ["displacement", "force"])
-@pytest.mark.parametrize("geometry", ["sphere-plane", "sphere-sphere"])
-def test_gross_sliding_is_the_rigid_body_impulse(history, geometry):
-    """60 degrees, mu = 0.092, elastic: the contact slides throughout, so F_t = -mu F_n all along
-    and the velocity changes are those of the impulses, to 1e-10, with the arms R."""
+def test_gross_sliding_is_the_rigid_body_impulse(history):
+    """60 degrees, mu = 0.092, elastic, on the plane: the contact slides throughout, so F_t = -mu F_n
+    all along and the velocity changes are those of the impulses, to 1e-10, with the arms R."""
     form = TangentialForm(history=history)
-    case = (plane_case if geometry == "sphere-plane" else pair_case)(60, form=form)
+    case = plane_case(60, form=form)
     r = solve_oblique(**case)
     assert [p for p, _ in r.phases] == ["slip"]
-    plane = geometry == "sphere-plane"
-    rb = rigid_body_sliding(case["v_n"], 1.0, MU, R, MASS, 0.4 * MASS * R * R, v_s=case["v_t"],
-                            R2=math.inf if plane else case["R2"], m2=case["m2"],
-                            I2=math.inf if plane else 0.4 * case["m2"] * case["R2"] ** 2)
+    rb = rigid_body_sliding(case["v_n"], 1.0, MU, R, MASS, 0.4 * MASS * R * R, v_s=case["v_t"])
     assert r.eps == pytest.approx(1.0, abs=1e-10)
     assert r.vt_after - case["v_t"] == pytest.approx(rb["dv1"], rel=1e-10)
     assert r.omega_after == pytest.approx(rb["dw1"], rel=1e-10)
-    assert r.vt2_after == pytest.approx(rb["dv2"], rel=1e-10, abs=0)
-    assert r.omega2_after == pytest.approx(rb["dw2"], rel=1e-10, abs=0)
+    assert r.vt2_after == r.omega2_after == 0.0
     vs0 = case["v_t"]
     assert r.e_t == pytest.approx((vs0 + rb["dv_s"]) / vs0, rel=1e-10)
     assert r.Ft_max == pytest.approx(MU * r.F_max, rel=1e-10)
+
+
+@pytest.mark.parametrize("history", ["displacement", "force"])
+def test_gross_sliding_of_two_spheres_turns_the_line_of_centres(history):
+    """Two spheres at 60 deg slide throughout too, but the line of centres turns (by -5.0e-3 rad
+    here) and the lab frame's changes are no longer the rigid-body impulses (measured: v_y1 -3.2e-2,
+    omega -4.4e-3 relative, eps - 1 = -8.3e-3): the momentum is kept (to 1e-12 of m1 v_t), both
+    spheres get the same torque arm R times the one F_t (omega_2'/omega_1' = R2 I1/(R1 I2) to
+    1e-12), and the history form does not matter (F_t = -mu F_n)."""
+    case = pair_case(60, form=TangentialForm(history=history))
+    r = solve_oblique(**case)
+    assert [p for p, _ in r.phases] == ["slip"]
+    m2, R2 = case["m2"], case["R2"]
+    I1, I2 = 0.4 * MASS * R * R, 0.4 * m2 * R2 * R2
+    assert MASS * (r.vt_after - case["v_t"]) + m2 * r.vt2_after == pytest.approx(0.0, abs=1e-12 * MASS * case["v_t"])
+    assert r.omega2_after / r.omega_after == pytest.approx(R2 * I1 / (R * I2), rel=1e-12)
+    assert r.turn_after == pytest.approx(-5.0e-3, rel=0.01)
+    rb = rigid_body_sliding(case["v_n"], 1.0, MU, R, MASS, I1, v_s=case["v_t"], R2=R2, m2=m2, I2=I2)
+    assert (r.vt_after - case["v_t"]) / rb["dv1"] - 1 == pytest.approx(-3.2e-2, rel=0.02)
+    assert r.omega_after / rb["dw1"] - 1 == pytest.approx(-4.4e-3, rel=0.02)
+
+
+def test_two_frictionless_spheres_deflect_each_other():
+    """Alumina on alumina (R = 2.5 mm both), mu = 0, 45 deg: nothing spins, the relative speed and
+    the momentum are kept (elastic, to 1e-11 and 1e-12), and the line of centres turns (by -4.15e-3 rad) so
+    that the normal force pushes along y too: v_y1 - v_y2 gains +4.14e-3 relative (LAMMPS and YADE
+    in the limit dt -> 0: the same to 2e-12; tests/test_engine_*_oblique.py), eps (lab x) is
+    0.99584, and the largest |y force| is 0.40 N beside a 176 N normal force."""
+    case = pair_case(45, mu=0.0, R2=R)
+    r = solve_oblique(**case)
+    v_n, v_t, m2 = case["v_n"], case["v_t"], case["m2"]
+    assert r.omega_after == r.omega2_after == 0.0
+    v_rel = math.hypot(r.eps * v_n, r.vt_after - r.vt2_after)
+    assert v_rel == pytest.approx(math.hypot(v_n, v_t), rel=1e-11)
+    assert MASS * r.vt_after + m2 * r.vt2_after == pytest.approx(MASS * v_t, rel=1e-12)
+    deflection = (r.vt_after - r.vt2_after) / v_t - 1
+    assert deflection == pytest.approx(4.14e-3, rel=0.01)
+    assert r.turn_after == pytest.approx(-4.15e-3, rel=0.01)
+    assert r.eps == pytest.approx(0.99584, abs=1e-5)
+    assert r.Ft_max == pytest.approx(0.405, rel=0.01) and r.F_max == pytest.approx(176.4, rel=1e-3)
+    # the plane's normal does not turn: the same impact keeps v_t exactly
+    plane = solve_oblique(**plane_case(45, mu=0.0))
+    assert plane.vt_after == plane_case(45)["v_t"] and plane.turn_after == 0.0
+
+
+@pytest.mark.parametrize("form", [LAMMPS, form_of("lammps:mindlin", "sphere-sphere")], ids=["xt", "registry"])
+def test_two_spheres_keep_their_angular_momentum(form):
+    """With the torque arms R - delta/2 (LAMMPS's pair) the contact point is the same for both
+    bodies and lies on the line of centres, so the forces are a pair acting at one point: the total
+    angular momentum M* (r2 - r1) x (v2 - v1) + I1 w1 + I2 w2 is kept, to 1e-10, through
+    slip, stick and slip again, with a spin and a damped normal law."""
+    case = pair_case(30, form=form, mu=0.3, R2=R, w1=200.0, x_t=0.5)
+    case["eta"] = viscosity_for(case, 0.2)
+    r = solve_oblique(**case)
+    assert [p for p, _ in r.phases][:3] == ["slip", "stick", "slip"]
+    M, R12, I = case["M_star"], 2 * R, 0.4 * MASS * R * R
+    before = -M * R12 * case["v_t"] + I * case["w1"]  # r2 - r1 = R12 x, v2 - v1 = -(v_n, v_t)
+    rho = R12 * np.array([math.cos(r.turn_after), math.sin(r.turn_after)])
+    v21 = -np.array([-r.eps * case["v_n"], r.vt_after - r.vt2_after])  # v2 - v1 after
+    after = M * (rho[0] * v21[1] - rho[1] * v21[0]) + I * (r.omega_after + r.omega2_after)
+    assert after == pytest.approx(before, rel=1e-10)
+
+
+#: solve_oblique on the plane before the line of centres could turn (git e4b6d62): the plane's
+#: normal does not turn, so its results must not move at all.
+PLANE_BEFORE = {
+    "5deg": (plane_case(5), dict(T=8.06109345144629e-06, eps=0.9999999999993218, delta_max=1.0640742170380101e-05,
+                                 F_max=464.22057541180254, vt_after=0.3248753255338461,
+                                 omega_after=-15.032071182020905, e_t=0.8452159333824316,
+                                 rebound_angle=4.2291429646476395, Ft_max=23.848345415753236)),
+    "60deg": (plane_case(60), dict(T=9.252706795724445e-06, eps=0.9999999999992392, delta_max=6.130170344842035e-06,
+                                   F_max=202.99031595090912, vt_after=3.0186990747594464,
+                                   omega_after=-358.7999999998635, e_t=0.6281864266420223,
+                                   rebound_angle=47.41466945798338, Ft_max=18.67510906748364)),
+    "force-rescale-clipped-spin": (INDEPENDENT_CASES["force-rescale-clipped-spin"], dict(
+        T=7.84946529574607e-06, eps=0.8226855030919624, delta_max=9.618119699653457e-06, F_max=403.0444615226296,
+        vt_after=0.9648531353326504, omega_after=-344.54114056718026, e_t=0.3990075862532445,
+        rebound_angle=1.9127603609987747, Ft_max=13.943278942333793)),
+    "liggghts-20deg": (plane_case(20, form=LIGGGHTS), dict(
+        T=8.155782545421306e-06, eps=1.00000000000046, delta_max=1.0155123105845588e-05, F_max=432.80701779586917,
+        vt_after=0.8251958564716282, omega_after=-507.7535246277131, e_t=-0.33300479425999147,
+        rebound_angle=-6.910759113858614, Ft_max=39.81824563721996)),
+}
+
+
+@pytest.mark.parametrize("name", list(PLANE_BEFORE))
+def test_the_plane_is_the_fixed_normal(name):
+    """The sphere on the plane is unchanged by the two-sphere motion: the same numbers as before it
+    (measured: bitwise; checked to 1e-14)."""
+    case, before = PLANE_BEFORE[name]
+    r = solve_oblique(**case)
+    for key, value in before.items():
+        assert getattr(r, key) == pytest.approx(value, rel=1e-14, abs=0), key
+    assert r.turn_after == 0.0
 
 
 def test_rigid_body_sliding_on_a_plane_is_the_textbook_form():
@@ -467,9 +669,10 @@ def test_small_angles_have_a_stick_phase():
 
 @pytest.mark.parametrize("clipped", [False, True])
 def test_the_normal_half_is_the_reference_collision(clipped):
-    """The normal motion does not see the tangential one: T, eps, delta_max, F_max are those of
-    reference.solve_collision at K = 2 eta sqrt(R*) delta_e^{3/2} / (M* v_n), to 1e-10."""
-    case = pair_case(20, form=LAMMPS, clipped=clipped, x_t=0.5)
+    """On the plane the normal motion does not see the tangential one: T, eps, delta_max, F_max are
+    those of reference.solve_collision at K = 2 eta sqrt(R*) delta_e^{3/2} / (M* v_n), to 1e-10.
+    (Two spheres: the turning line of centres adds a centripetal term, so there it does.)"""
+    case = plane_case(20, form=LAMMPS, clipped=clipped, x_t=0.5)
     K = 0.5
     case["eta"] = viscosity_for(case, K)
     r = solve_oblique(**case)
@@ -501,7 +704,7 @@ def test_the_force_law_caps_and_resets():
     assert cap_force(yade, history=-8.0, k_t=1e7, v_s=0.1, eta_t=20.0, mu=0.5, F_c=10.0)[0] == -5.0
 
 
-@pytest.mark.parametrize("name", ["yade-pair-10deg", "lammps-xt-viscoelastic-pair", "rescale-elastic-cap-six-phases"])
+@pytest.mark.parametrize("name", ["yade-pair-10deg", "lammps-xt-viscoelastic-pair", "force-rescale-pair-spin"])
 def test_two_spheres_keep_their_tangential_momentum(name):
     """F_t on one, -F_t on the other: m1 v_y1 + m2 v_y2 is kept to round-off (1e-12 of m1 v_t)."""
     case = INDEPENDENT_CASES[name]
