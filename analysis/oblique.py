@@ -24,10 +24,11 @@ map sees half a step late, and on where stick and slip meet, which falls anywher
 grid: there the rungs' errors are no series in dt (measured, alumina at 10 deg in LAMMPS: omega'
 off by 3.3e-6, 6.0e-7, 4.6e-7, 5.7e-8 at T_e/250 ... T_e/2000). Each quantity's limit is the
 Richardson extrapolation over the dissipative expansion's powers (1, 3/2, 2, ...;
-`engines.ladder.extrapolate`) where its own estimate is below the finest two rungs' difference
-(the series holds: gross sliding, the normal half), and otherwise the finest rung, with that
-difference as its resolution (at first order or better the finest rung's remaining error is at
-most that); ``method_<q>`` says which.
+`engines.ladder.extrapolate`), or the first-order limit of the two finest rungs (its estimate: its
+distance from the same limit of the next two), or the finest rung itself (its estimate: the finest
+two rungs' difference, which bounds what remains at first order or better): whichever has the
+smallest estimate, that estimate its resolution; ``method_<q>`` says which (the series wins in
+gross sliding and in the normal half, where it holds).
 """
 
 from __future__ import annotations
@@ -194,12 +195,17 @@ def rung_rows(runs, sweep, known_defects=()) -> pd.DataFrame:
         row.update(slides_throughout=ref["slides_throughout"], phases=ref["phases"],
                    rigid_vt_after=ref.get("rigid_vt_after", math.nan),
                    rigid_omega_after=ref.get("rigid_omega_after", math.nan))
-        d = declared_defect(known_defects, run.build, run.model)
+        d = declared_defect(known_defects, run.build, run.model, run.pair.geometry)
         if d and d.get("max_error") is not None:
             row.update(known_defect=f"{d['description']} ({d['reference']})",
                        known_defect_max_error=float(d["max_error"]))
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def _first_order(h, y) -> float:
+    """The limit h -> 0 of a + b h through two rungs (h, y)."""
+    return float(y[1] + (y[1] - y[0]) * h[1] / (h[0] - h[1]))
 
 
 def limit_rows(rungs: pd.DataFrame) -> pd.DataFrame:
@@ -242,11 +248,11 @@ def limit_rows(rungs: pd.DataFrame) -> pd.DataFrame:
             # the finest rung, bounded by its distance from the next coarser (at first order or
             # better the remaining error is at most that), unless the extrapolation's own estimate
             # is the tighter of the two and so the series holds (gross sliding, the normal half).
-            bound = abs(y[-1] - y[-2])
-            if e.estimate <= bound:
-                value, estimate, method = e.value, e.estimate, "extrapolated"
-            else:
-                value, estimate, method = float(y[-1]), bound, "finest rung"
+            candidates = [(e.estimate, e.value, "extrapolated"), (abs(y[-1] - y[-2]), float(y[-1]), "finest rung")]
+            if len(y) >= 3:  # first order from the two finest rungs, checked against the next two
+                first = [_first_order(h[k:k + 2], y[k:k + 2]) for k in (len(y) - 2, len(y) - 3)]
+                candidates.append((abs(first[0] - first[1]), first[0], "first order"))
+            estimate, value, method = min(candidates, key=lambda c: c[0])
             row.update({column: value, f"estimate_{q}": estimate, f"order_{q}": e.order, f"method_{q}": method,
                         f"resolution_{q}": max(estimate, RESOLUTION_FLOOR),
                         f"rungs_{q}": ";".join(f"{x:.6e}" for x in y)})
@@ -293,7 +299,7 @@ def processor_boundary_checks(rungs: pd.DataFrame, planned=None, failures=None, 
         why = failure_reason(run.name, failures) if run.name in failures else "its dump did not land"
         twin = run.name.removesuffix("-np2")
         twin_why = failure_reason(twin, failures) if twin in failures else ""
-        defect = declared_defect(known_defects, run.build, run.model)
+        defect = declared_defect(known_defects, run.build, run.model, run.pair.geometry)
         # On two ranks the rank that meets an error may not be the one whose output is the log: the
         # one-rank twin's failure says what it was.
         known = bool(defect and defect.get("fails") and defect["fails"] in why + twin_why)
@@ -351,17 +357,21 @@ def failure_reason(name: str, failures: dict) -> str:
     return problem
 
 
-def declared_defect(known_defects, build: str, model: str) -> dict | None:
-    """The config's known defect of `build` and `model` (``oblique.known_defects``), if any.
+def declared_defect(known_defects, build: str, model: str, geometry: str | None = None) -> dict | None:
+    """The config's known defect of `build`, `model` and `geometry` (``oblique.known_defects``; an
+    entry without a geometry covers both), if any.
 
     Parameters
     ----------
     known_defects : sequence of dict
-        Config entries {build, model, reference, description, max_error?, fails?}.
+        Config entries {build, model, geometry?, reference, description, max_error?, fails?}.
     build, model : str
         The ladder's build id and tangential model.
+    geometry : str, optional
+        The ladder's geometry.
     """
-    return next((d for d in known_defects or () if d["build"] == build and d["model"] == model), None)
+    return next((d for d in known_defects or () if d["build"] == build and d["model"] == model
+                 and d.get("geometry", geometry) == geometry), None)
 
 
 def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failures=None,
@@ -425,7 +435,7 @@ def oblique_checks(limits: pd.DataFrame, tolerance: float, planned=None, failure
                 continue
             landed.add(run.ladder)
             why = problems.get(run.ladder, "fewer than three rungs landed")
-            defect = declared_defect(known_defects, run.build, run.model)
+            defect = declared_defect(known_defects, run.build, run.model, run.pair.geometry)
             known = bool(defect and defect.get("fails") and defect["fails"] in why)
             detail = f"the ladder did not land: {why}"
             if known:

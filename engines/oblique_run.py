@@ -88,6 +88,13 @@ class ObliqueRun:
         return math.degrees(math.atan2(self.tangential_velocity, self.normal.velocity))
 
     @property
+    def contact_angle(self) -> float:
+        """The incidence of the contact point's slip from the normal [deg]: atan((v_t + R1 w1) / v_n)
+        (the centres' `angle` where nothing spins; Chung & Ooi's tests 6-8 give it by spin alone)."""
+        return math.degrees(math.atan2(self.tangential_velocity + self.pair.body_1.radius * self.spin,
+                                       self.normal.velocity))
+
+    @property
     def ladder(self) -> str:
         """The runs that differ in their time step alone share it (see `RunSpec.ladder`)."""
         return self._name(self.normal.ladder)

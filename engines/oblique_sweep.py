@@ -1,7 +1,7 @@
 """Run oblique collisions (`engines.oblique_run.ObliqueRun`) in a build: its code's oblique
-driver (`engines.codes.Code.oblique_driver`), one engine process per tangential model and MPI rank
-count, so that a model that crashes its engine (LAMMPS 22 Jul 2025's classic wall) fails its own
-ladders alone."""
+driver (`engines.codes.Code.oblique_driver`), one engine process per tangential model, geometry and
+MPI rank count, so that a model that crashes its engine in one geometry (LAMMPS 22 Jul 2025's
+classic wall) fails its own ladders alone."""
 
 from __future__ import annotations
 
@@ -20,9 +20,9 @@ def run_oblique_sweep(build, runs, workdir, timeout_floor_s: float = DEFAULT_TIM
     build : engines.builds.Build
         The build; every run must be its own.
     runs : list of ObliqueRun
-        The runs, in any order; those of each model and rank count go to one process.
+        The runs, in any order; those of each model, geometry and rank count go to one process.
     workdir : str or os.PathLike
-        Where the engine works and the dumps are written (a subfolder per model and rank count).
+        Where the engine works and the dumps are written (a subfolder per process).
     timeout_floor_s : float
         The least time an engine process is given [s].
     """
@@ -31,9 +31,9 @@ def run_oblique_sweep(build, runs, workdir, timeout_floor_s: float = DEFAULT_TIM
         raise ValueError(f"build {build.id!r} got runs of another build")
     runner = code(build.code).runner(oblique=True) if runs else None
     sweep = Sweep()
-    for model, ranks in sorted({(r.model, r.ranks) for r in runs}):
-        part = [r for r in runs if r.ranks == ranks and r.model == model]
-        folder = Path(workdir) / f"{model.replace(':', '-').replace('/', '_')}-np{ranks}"
+    for model, geometry, ranks in sorted({(r.model, r.pair.geometry, r.ranks) for r in runs}):
+        part = [r for r in runs if r.ranks == ranks and r.model == model and r.pair.geometry == geometry]
+        folder = Path(workdir) / f"{model.replace(':', '-').replace('/', '_')}-{geometry}-np{ranks}"
         one = runner(part, folder, executable=build.executable, timeout_floor_s=timeout_floor_s)
         sweep.dumps.update(one.dumps)
         sweep.failures.update(one.failures)

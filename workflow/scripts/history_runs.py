@@ -103,7 +103,7 @@ else:
         oblique = oblique_plan([load_case(p) for p in snakemake.input.oblique_cases], code, build.id,
                                install["banner"], o["ladder"])
         keep = set(o["reduced"]["angles"])
-        oblique.runs = [r for r in oblique.runs if round(r.angle, 6) in keep]
+        oblique.runs = [r for r in oblique.runs if round(r.contact_angle, 6) in keep]
         swept = run_oblique_sweep(build, oblique.runs, f"{snakemake.output.runs}/oblique",
                                   timeout_floor_s=snakemake.params.timeout_floor_s)
         seconds += swept.engine_seconds

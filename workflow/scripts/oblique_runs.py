@@ -21,9 +21,9 @@ factors = o["ladder"]
 ranks = [1] if reduced else o.get("ranks", {}).get(build.code, [1])
 cases = [load_case(path) for path in snakemake.input.cases]
 plan = oblique_plan(cases, build.code, build.id, banner, factors, ranks)
-if reduced:  # `all`: the reduced set's impacts alone (config oblique.reduced.angles)
+if reduced:  # `all`: the reduced set's impacts alone (config oblique.reduced.angles: of the contact point's slip)
     keep = set(o["reduced"]["angles"])
-    plan.runs = [r for r in plan.runs if round(r.angle, 6) in keep or r.spin != 0]
+    plan.runs = [r for r in plan.runs if round(r.contact_angle, 6) in keep]
 log.info("%s (%s): %d oblique runs (%d ladders) of %d cases; not run: %s", build.id, banner, len(plan.runs),
          len({r.ladder for r in plan.runs}), len(cases), "; ".join(f"{c} {m}: {why}" for (c, m), why in
                                                                plan.refused.items()) or "none")
