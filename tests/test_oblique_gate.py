@@ -19,7 +19,7 @@ from contact_model import load_case
 from engines.builds import load_builds
 from engines.codes import CODES
 from engines.lammps_oblique import run_lammps_oblique
-from engines.oblique_plan import oblique_plan
+from engines.oblique_plan import ObliquePlan, oblique_plan
 from engines.yade_oblique import run_yade_oblique
 
 from engine_cases import missing
@@ -52,11 +52,7 @@ def gate(runs, sweep, known_defects=()):
     rungs = rung_rows(runs, sweep, known_defects)
     limits = limit_rows(rungs)
 
-    class Plan:  # the part of an ObliquePlan oblique_checks reads
-        pass
-
-    plan = Plan()
-    plan.runs = runs
+    plan = ObliquePlan(runs=runs, build=runs[0].build)
     return oblique_checks(limits, TOLERANCE, planned=plan, failures=sweep.failures, known_defects=known_defects)
 
 
