@@ -8,7 +8,8 @@ the viscoelastic model, each keyword law (`default`, each code's own restitution
 other keywords) against the equation its code computes from what it is told. What a keyword
 restitutes against the e it is told (its promise) and the paper's series are reported, not gated:
 where they depart, that is a finding. The tangential half of the contact (tangential force,
-friction, rotation, oblique impacts) is not validated, and every report says so (`NOT_VALIDATED`).
+friction, rotation, oblique impacts) is gated apart (report.oblique_report), and every report says
+what that covers (`NOT_VALIDATED`).
 """
 
 from __future__ import annotations
@@ -43,9 +44,11 @@ from .report_resolution import ladder_settings, map_section, plot_ladders, resol
 #: Where the matrices go in the report's text (Markdown in report.md, HTML tables in report.html).
 MATRIX = "@@gated-matrix@@"
 #: What the study does not validate, said under every report's verdict (docs/verdict.md).
-NOT_VALIDATED = ("**Not validated here**: the tangential half of the contact, i.e. the tangential force, friction, "
-                 "rotation and oblique impacts. Every run is a head-on collision along the line of centres (the "
-                 "normal force alone); a PASS says nothing about them (docs/verdict.md).")
+NOT_VALIDATED = ("**The tangential half** (tangential force, friction, rotation, oblique impacts) is not part of this "
+                 "matrix: every run here is a head-on collision (the normal force alone). It is gated apart, "
+                 "in LAMMPS's and YADE's tangential models only (the section \"Oblique impacts\" where the study "
+                 "runs it, `snakemake -j2 oblique`, docs/tangential.md); LIGGGHTS, ESyS and Kratos are not run "
+                 "oblique yet, and a PASS here says nothing about their tangential force.")
 
 
 def _md_table(df: pd.DataFrame, floatfmt: str = ".3g") -> str:

@@ -221,7 +221,8 @@ def test_a_two_build_restitution_case_through_the_workflow(tmp_path):
                         timeout=300)
     assert out.returncode == 0, out.stderr[-3000:]
     report = (project / "results" / "steel" / "report.md").read_text()
-    assert "**Not validated here**: the tangential half of the contact" in report.split("## Physical results")[0]
+    assert ("**The tangential half** (tangential force, friction, rotation, oblique impacts) is not "
+            "part of this matrix") in report.split("## Physical results")[0]
     summary = pd.read_csv(project / "results" / "steel" / "summary.csv")
     limits = summary[summary.dt == 0]
     rows = physical_rows(report.split("## Physical results", 1)[1].splitlines(), "sphere-sphere")
