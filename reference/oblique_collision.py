@@ -235,6 +235,8 @@ class _Model:
         # after the normal force's zero the cap stays 0 to the end: clipped, or clipped in the cap
         # (the unclipped force stays negative once it has crossed zero on the way out)
         self.capless_after_f0 = f.cap_normal != "elastic" and (self.clipped or f.cap_normal == "total_clipped")
+        # a cap on |F_n| of the unclipped law: C is 0 at the normal force's zero and grows after it
+        self.reopens_after_f0 = (f.cap_normal == "total_abs" and not self.clipped and 0.0 < self.mu < math.inf)
         self.im1, self.iI1 = 1.0 / self.m1, 1.0 / self.I1
         self.im2 = 0.0 if self.plane else 1.0 / self.m2
         self.iI2 = 0.0 if self.plane else 1.0 / self.I2
@@ -346,6 +348,25 @@ class _Model:
     def slip_margin(self, y, s: float) -> float:
         """delta^{1/2} (s dX_free/dt - dC/dt) while sliding: > 0 keeps the slide (module docstring)."""
         q = self.local(y, True, s)
+        return s * self.free_rate_scaled(y, q) - self.cap_rate_scaled(q)
+
+    def phase_at_f0(self, y) -> tuple[bool, float]:
+        """(sliding, s) from the normal force's zero on, for a cap on |F_n| of the unclipped law.
+
+        C = mu |F_n| is 0 there and grows again (the attractive tail), X is 0 too (X = s C while
+        sliding; |X| <= C while sticking), so, as at touching, the phase is that of the limit of
+        |X|/C along the free evolution: it slides on s = sign(dX_free/dt) iff |dX_free/dt| exceeds
+        the cap's rate after the zero, mu |dF_n/dt| (module docstring, "The normal force's zero")."""
+        q = self.local(y, True, 1.0)  # F_t = s C = 0 here: dX_free/dt does not depend on s
+        dX = self.free_rate_scaled(y, q)
+        dC = abs(self.cap_rate_scaled(q))  # mu |dF_n/dt| delta^{1/2}, whatever the sign of F_n at the zero
+        if abs(dX) > dC:
+            return True, math.copysign(1.0, dX)
+        return False, 0.0
+
+    def free_rate_scaled(self, y, q: dict) -> float:
+        """delta^{1/2} dX_free/dt while sliding [N/s m^{1/2}] (q = `local` in the slide's mode): the
+        rate of X under the sticking evolution from the slide's history (module docstring)."""
         rd, dd = q["rd"], q["dd"]
         r = 1.0 if (self.form.rescale and dd < 0.0) else 0.0
         # delta^{1/2} (da/dt)/a = dd / (2 delta^{1/2}); at delta = 0 the history is 0 with the cap
@@ -363,7 +384,7 @@ class _Model:
                         + F_t * (q["L1s"] * q["L1t"] * self.iI1 + q["L2s"] * q["L2t"] * self.iI2)
                         - self.sh1s * dd * (q["w1"] + q["w2"]))
             dX -= q["eta_stick"] * (half_rate * q["v_s"] + rd * dv_s)
-        return s * dX - self.cap_rate_scaled(q)
+        return dX
 
     def stick_margin(self, y) -> float:
         """C^2 - X^2 while sticking: < 0 beyond the cap [N^2]."""
@@ -589,14 +610,28 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
         if not switched:
             chatter = 0
         t, y = phys(w_ev, Y_ev)
+        at_f0 = name == "F0"
         if name in ("slip", "stick") and not fn_crossed and abs(model.local(y, sliding, s)["F_raw"]) <= F0_TOUCH * F_e:
             # a transition at the normal force's zero (the kink of C there, |F_n| or max(F_n, 0), can
             # make one): F0's own event, a few ulp later, would now be lost, so F0 is this point too
-            fn_crossed, T_F0 = True, t
+            at_f0 = True
             if model.capless_after_f0:
                 name = "F0"
-        if name == "F0":
+        if at_f0:
             fn_crossed, T_F0 = True, t
+        if at_f0 and model.reopens_after_f0:
+            # C = mu |F_n| is 0 here and grows again: the phase after is decided afresh, as at
+            # touching (module docstring, "The normal force's zero"); whatever fired here, a slide's
+            # exit event could not (its margin jumps to < 0 at the zero, it does not cross it)
+            new_sliding, new_s = model.phase_at_f0(y)
+            if new_sliding != sliding:
+                if not new_sliding:
+                    y = y.copy()
+                    y[6] = model.history_at(y, True, s)
+                phases.append(("slip" if new_sliding else "stick", t))
+            switched = (new_sliding, new_s) != (sliding, s)
+            sliding, s = new_sliding, new_s
+        elif name == "F0":
             if model.capless_after_f0:
                 # C = 0 from here to the end: the contact slides, with F_t = 0 (total cap) or the
                 # damping alone (elastic cap) whatever the direction, and no transition is left
