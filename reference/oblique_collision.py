@@ -107,6 +107,31 @@ the sticking motion (delta = v_n t, H from v_s t): for a Mindlin displacement hi
 damping it is (6 G*/E*) |v_s|/v_n, and the contact slides from the start iff that exceeds mu.
 It is evaluated at t = 1e-12 delta_e/v_n, where the corrections are ~1e-12.
 
+The normal force's zero
+-----------------------
+With the cap on |F_n| of the unclipped law (``total_abs``, not ``clipped``, eta > 0), F_n passes
+zero at T_F0 on the way out and stays negative to the end (the attractive tail): C = mu |F_n|
+falls to 0 there and grows again. |X| <= C makes X = 0 at T_F0 whatever the phase (a slide holds
+X = s C -> 0; a stick meets the cap at the latest there), and dC/dt jumps from -mu |dF_n/dt| to
++mu |dF_n/dt|. A slide's margin g = s dX_free/dt - dC/dt therefore jumps by -2 mu |dF_n/dt| at the
+zero: where it lands below zero the slide ends at the zero itself, but g has jumped, not crossed,
+and the downward-crossing event cannot see it (it lands on either side by round-off; before this
+was handled the force and rescaled histories slid on to the end, the displacement history stuck:
+alumina at 10 deg, K = 0.1, mu = 0.092, omega_after 1e-4 off the discrete limit). So the phase
+after the zero is decided there, as at touching, from X and C both starting at 0: over the first
+steps after it the discrete trial is X + dX_free dt from X = 0, and C = mu |dF_n/dt| (t - T_F0),
+so the projection stays inactive, the contact STICKS, iff
+
+    |dX_free/dt| <= mu |dF_n/dt|     (at T_F0; dF_n/dt < 0 is continuous there),
+
+and else it SLIDES with s = sign(dX_free/dt). dX_free/dt is the free rate above with the history
+where the slide holds it at C = 0: F_t = s C = 0, F_el = 0 (elastic cap) or eta_t v_s (total cap),
+so it does not depend on s; without a dashpot the terms (c_k + r) F_el (da/dt)/a of the
+displacement history and of the rescaling vanish with F_el there, and dX_free/dt = -k_t v_s.
+Sticking, the history is set to hold X = 0. A transition located within F0_TOUCH of the zero is the zero too. With
+``total_clipped`` or a clipped law C stays 0 after the zero (no transition is left), with an
+``elastic`` F_c it has no kink there: neither needs the decision.
+
 How it is integrated
 --------------------
 delta^{1/2} is not smooth at either end of the contact, so, as in `reference.collision_ode`, the
