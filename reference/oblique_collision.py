@@ -121,6 +121,31 @@ where F_t jumps at a transition (damping ``stick_only`` under the elastic cap), 
 continuous limit there (the discrete algorithm chatters; the limit would slide along the cap with a
 force neither phase gives, a Filippov solution) and `solve_oblique` refuses it by name.
 
+The normal force's zero
+-----------------------
+With the cap on |F_n| of the unclipped law (``total_abs``, not ``clipped``, eta > 0), F_n passes
+zero at T_F0 on the way out and stays negative to the end (the attractive tail): C = mu |F_n|
+falls to 0 there and grows again. |X| <= C makes X = 0 at T_F0 whatever the phase (a slide holds
+X = s C -> 0; a stick meets the cap at the latest there), and dC/dt jumps from -mu |dF_n/dt| to
++mu |dF_n/dt|. A slide's margin g = s dX_free/dt - dC/dt therefore jumps by -2 mu |dF_n/dt| at the
+zero: where it lands below zero the slide ends at the zero itself, but g has jumped, not crossed,
+and the downward-crossing event cannot see it (it lands on either side by round-off; before this
+was handled the force and rescaled histories slid on to the end, the displacement history stuck:
+alumina at 10 deg, K = 0.1, mu = 0.092, omega_after 1e-4 off the discrete limit). So the phase
+after the zero is decided there, as at touching, from X and C both starting at 0: over the first
+steps after it the discrete trial is X + dX_free dt from X = 0, and C = mu |dF_n/dt| (t - T_F0),
+so the projection stays inactive, the contact STICKS, iff
+
+    |dX_free/dt| <= mu |dF_n/dt|     (at T_F0; dF_n/dt < 0 is continuous there),
+
+and else it SLIDES with s = sign(dX_free/dt). dX_free/dt is the free rate above with the history
+where the slide holds it at C = 0: F_t = s C = 0, F_el = 0 (elastic cap) or eta_t v_s (total cap),
+so it does not depend on s; without a dashpot the terms (c_k + r) F_el (da/dt)/a of the
+displacement history and of the rescaling vanish with F_el there, and dX_free/dt = -k_t v_s.
+Sticking, the history is set to hold X = 0. A transition located within F0_TOUCH of the zero is the zero too. With
+``total_clipped`` or a clipped law C stays 0 after the zero (no transition is left), with an
+``elastic`` F_c it has no kink there: neither needs the decision.
+
 How it is integrated
 --------------------
 delta^{1/2} is not smooth at either end of the contact, so, as in `reference.collision_ode`, the
@@ -253,6 +278,8 @@ class _Model:
         # F_t jumps at a transition when the damping switches off with the slide (YADE's form): a
         # phase that wants to leave at once is then a true chatter, not round-off
         self.force_jumps = (f.cap == "elastic" and f.damping == "stick_only" and self.x_t * self.eta > 0.0)
+        # a cap on |F_n| of the unclipped law: C is 0 at the normal force's zero and grows after it
+        self.reopens_after_f0 = (f.cap_normal == "total_abs" and not self.clipped and 0.0 < self.mu < math.inf)
         self.im1, self.iI1 = 1.0 / self.m1, 1.0 / self.I1
         self.im2 = 0.0 if self.plane else 1.0 / self.m2
         self.iI2 = 0.0 if self.plane else 1.0 / self.I2
@@ -364,6 +391,25 @@ class _Model:
     def slip_margin(self, y, s: float) -> float:
         """delta^{1/2} (s dX_free/dt - dC/dt) while sliding: > 0 keeps the slide (module docstring)."""
         q = self.local(y, True, s)
+        return s * self.free_rate_scaled(y, q) - self.cap_rate_scaled(q)
+
+    def phase_at_f0(self, y) -> tuple[bool, float]:
+        """(sliding, s) from the normal force's zero on, for a cap on |F_n| of the unclipped law.
+
+        C = mu |F_n| is 0 there and grows again (the attractive tail), X is 0 too (X = s C while
+        sliding; |X| <= C while sticking), so, as at touching, the phase is that of the limit of
+        |X|/C along the free evolution: it slides on s = sign(dX_free/dt) iff |dX_free/dt| exceeds
+        the cap's rate after the zero, mu |dF_n/dt| (module docstring, "The normal force's zero")."""
+        q = self.local(y, True, 1.0)  # F_t = s C = 0 here: dX_free/dt does not depend on s
+        dX = self.free_rate_scaled(y, q)
+        dC = abs(self.cap_rate_scaled(q))  # mu |dF_n/dt| delta^{1/2}, whatever the sign of F_n at the zero
+        if abs(dX) > dC:
+            return True, math.copysign(1.0, dX)
+        return False, 0.0
+
+    def free_rate_scaled(self, y, q: dict) -> float:
+        """delta^{1/2} dX_free/dt while sliding [N/s m^{1/2}] (q = `local` in the slide's mode): the
+        rate of X under the sticking evolution from the slide's history (module docstring)."""
         rd, dd = q["rd"], q["dd"]
         r = 1.0 if (self.form.rescale and dd < 0.0) else 0.0
         # delta^{1/2} (da/dt)/a = dd / (2 delta^{1/2}); at delta = 0 the history is 0 with the cap
@@ -381,7 +427,7 @@ class _Model:
                         + F_t * (q["L1s"] * q["L1t"] * self.iI1 + q["L2s"] * q["L2t"] * self.iI2)
                         - self.sh1s * dd * (q["w1"] + q["w2"]))
             dX -= q["eta_stick"] * (half_rate * q["v_s"] + rd * dv_s)
-        return s * dX - self.cap_rate_scaled(q)
+        return dX
 
     def stick_margin(self, y) -> float:
         """C^2 - X^2 while sticking: < 0 beyond the cap [N^2]."""
@@ -608,14 +654,28 @@ def _integrate(model: _Model, scale, t_e, delta_e) -> ObliqueResult:
         if not switched:
             chatter = 0
         t, y = phys(w_ev, Y_ev)
+        at_f0 = name == "F0"
         if name in ("slip", "stick") and not fn_crossed and abs(model.local(y, sliding, s)["F_raw"]) <= F0_TOUCH * F_e:
             # a transition at the normal force's zero (the kink of C there, |F_n| or max(F_n, 0), can
             # make one): F0's own event, a few ulp later, would now be lost, so F0 is this point too
-            fn_crossed, T_F0 = True, t
+            at_f0 = True
             if model.capless_after_f0:
                 name = "F0"
-        if name == "F0":
+        if at_f0:
             fn_crossed, T_F0 = True, t
+        if at_f0 and model.reopens_after_f0:
+            # C = mu |F_n| is 0 here and grows again: the phase after is decided afresh, as at
+            # touching (module docstring, "The normal force's zero"); whatever fired here, a slide's
+            # exit event could not (its margin jumps to < 0 at the zero, it does not cross it)
+            new_sliding, new_s = model.phase_at_f0(y)
+            if new_sliding != sliding:
+                if not new_sliding:
+                    y = y.copy()
+                    y[6] = model.history_at(y, True, s)
+                phases.append(("slip" if new_sliding else "stick", t))
+            switched = (new_sliding, new_s) != (sliding, s)
+            sliding, s = new_sliding, new_s
+        elif name == "F0":
             if model.capless_after_f0:
                 # C = 0 from here to the end: the contact slides, with F_t = 0 (total cap) or the
                 # damping alone (elastic cap) whatever the direction, and no transition is left
