@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from records.files import write_atomically
+from records.files import save_figure, write_atomically
 
 #: The figures: (quantity, axis label, file name).
 FIGURES = (("e_t", "tangential restitution e_t = v_s'/v_s", "e_t.png"),
@@ -157,7 +157,7 @@ def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
                     labels.append(lab)
         fig.legend(handles, labels, loc="center right", fontsize=7, frameon=False)
         fig.tight_layout(rect=(0, 0, 1 - 3.3 / (6.5 * len(geometries) + 3.5), 1))
-        fig.savefig(folder / file_name, dpi=110)
+        save_figure(fig, folder / file_name, dpi=110)  # atomically: no half-written PNG
         plt.close(fig)
         names.append(file_name)
     return names
