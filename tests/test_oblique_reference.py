@@ -485,9 +485,9 @@ def test_the_discrete_algorithm_converges_to_it(name):
 
 
 def alumina_viscoelastic(angle, form):
-    """cases/oblique/alumina_viscoelastic.yaml as solve_oblique's arguments: the alumina sphere on
+    """cases/oblique/damped/alumina_viscoelastic.yaml as solve_oblique's arguments: the alumina sphere on
     the (near-rigid) plane, K = 0.1 at 3.9 m/s, mu = 0.092, the attractive tail kept."""
-    c = load_case(Path(__file__).resolve().parents[1] / "cases/oblique/alumina_viscoelastic.yaml")
+    c = load_case(Path(__file__).resolve().parents[1] / "cases/oblique/damped/alumina_viscoelastic.yaml")
     p = c.pairs[0]
     assert p.body_1.radius == R  # discrete() uses the module's R
     th = math.radians(angle)
