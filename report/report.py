@@ -362,9 +362,10 @@ def stale_build_folders(folder: Path, builds) -> list[str]:
                   if p.is_dir() and (p / "manifest.json").is_file() and p.name not in set(builds))
 
 
-def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
+def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1, plots: bool = True) -> None:
     """Write report.md, report.html and the plots of `inputs` into out_dir (the plots in
-    `workers` processes, `report.report_plots.start_drawing`).
+    `workers` processes, `report.report_plots.start_drawing`; `plots` False: left undrawn, the
+    reports as they are, their image links dangling, where matplotlib's seconds are not wanted).
 
     Every law is gated: its results are shown by its ladders' limits (summary rows with dt = 0),
     its rungs in the ladders' and the map's figures.
@@ -390,7 +391,7 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1) -> None:
                     (plot_ratios, (table, "F0", plots / "ratios_F0.png", curve, builds))]
     if len(limits) and len(ladder_runs):
         figures.append((plot_ladders, (ladder_runs, limits, tolerance, plots / "ladders.png", builds)))
-    figures_drawn = start_drawing(figures, workers)
+    figures_drawn = start_drawing(figures if plots else [], workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
     # What the study supplies of a law in each build's release, marked at the cells.
     supplied = ({b: CODES[e].supplied_in(v) for (b, e), v in table.groupby(["build", "engine"], sort=False)

@@ -361,3 +361,30 @@ def test_the_study_layers_are_imported_in_one_module_of_the_kit():
             if any(n.split(".")[0] in ("analysis", "verdict", "report", "postprocess") for n in names):
                 importers.add(path.name)
     assert importers == {"study.py"}
+
+
+def test_the_gate_as_a_process_exits_0_1_and_2(dumped, tmp_path, runs_workflow):
+    """What a company's CI runs: `python -m conformance gate DIR` as a process of its own, its exit
+    status the verdict (0 PASS, 1 FAIL, 2 unusable input), its last lines the verdict in words."""
+    import subprocess
+    import sys
+
+    def gate(folder):
+        return subprocess.run([sys.executable, "-m", "conformance", "gate", str(folder), "--no-plots"], cwd=ROOT,
+                              capture_output=True, text=True, timeout=300)
+
+    good = tmp_path / "good"
+    shutil.copytree(dumped, good)
+    done = gate(good)
+    assert done.returncode == 0 and "PASS" in done.stdout, done.stdout[-2000:] + done.stderr[-2000:]
+    assert verdict(good)["verdict"] == "PASS"
+    off = tmp_path / "off"
+    shutil.copytree(dumped, off)
+    write_dumps(off, stiffness=1 + 1e-5)
+    done = gate(off)
+    assert done.returncode == 1 and "FAIL" in done.stdout and verdict(off)["verdict"] == "FAIL"
+    spoiled = tmp_path / "spoiled"
+    shutil.copytree(dumped, spoiled)
+    _nan(spoiled)
+    done = gate(spoiled)
+    assert done.returncode == 2 and "UNUSABLE" in done.stdout and not (spoiled / "verdict.json").exists()
