@@ -94,3 +94,12 @@ def require_default_builds():
 def require_engine(executable: str, package: str):
     if shutil.which(executable) is None:
         missing(f"{executable} is not installed; install it with: sudo apt-get install {package} (make test does this)")
+
+
+def recording_executable(path, calls, executable: str):
+    """An executable at `path` that appends its arguments to the file `calls`, one line per call,
+    then runs `executable` (a name on PATH) with them: what proves which processes start an engine.
+    Returns `path`."""
+    path.write_text(f'#!/bin/sh\necho "$@" >> {calls}\nexec {shutil.which(executable)} "$@"\n')
+    path.chmod(0o755)
+    return path

@@ -14,7 +14,8 @@ import yaml
 from snakemake.utils import validate
 
 import processes
-from engine_cases import VELOCITY, VERSIONS, dump_metrics, missing, relative_errors, require_engine, steel_pair
+from engine_cases import (VELOCITY, VERSIONS, dump_metrics, missing, recording_executable, relative_errors,
+                          require_engine, steel_pair)
 from engines import EngineMissing, RunSpec, run_sweep
 from engines.builds import Build, BuildError, check_build, load_builds
 from engines.codes import CODES
@@ -176,9 +177,7 @@ def test_a_dry_run_and_unlock_start_no_engine_and_the_version_is_a_job(tmp_path)
     require_engine("lmp", "lammps")
     project = copy_workflow(tmp_path / "project")
     calls = tmp_path / "calls.txt"
-    wrapper = tmp_path / "lmp-recorded"
-    wrapper.write_text(f'#!/bin/sh\necho "$@" >> {calls}\nexec {shutil.which("lmp")} "$@"\n')
-    wrapper.chmod(0o755)
+    wrapper = recording_executable(tmp_path / "lmp-recorded", calls, "lmp")
     config = ["--config", f"builds=[{{id: lammps-rec, code: lammps, executable: {wrapper}}}]", "extras=[]",
               "cases=cases/steel.yaml"]
 

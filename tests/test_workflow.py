@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 import processes
-from engine_cases import require_default_builds, require_engine
+from engine_cases import recording_executable, require_default_builds, require_engine
 from workflow_copy import copy_workflow
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -288,9 +288,7 @@ def test_a_cluster_job_reads_the_runs_plans_and_no_process_reading_the_workflow_
     require_engine("lmp", "lammps")
     project = copy_workflow(tmp_path / "project")
     calls = tmp_path / "calls.txt"
-    counting = tmp_path / "lmp"
-    counting.write_text(f"#!/bin/sh\necho called >> {calls}\nexec {shutil.which('lmp')} \"$@\"\n")
-    counting.chmod(0o755)
+    counting = recording_executable(tmp_path / "lmp", calls, "lmp")
     config = ["--config", f"builds=[{{id: lammps, code: lammps, executable: {counting}}}]", "laws=[viscoelastic]",
               "extras=[]", "compare_builds=[]"]
     kept = project / ".snakemake" / "hertz-setup"
