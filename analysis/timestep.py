@@ -13,6 +13,10 @@ rounding: docs/timestep.md) replayed at 24 phases of the contact's start on the 
   min / median / max over the phases: a production run has every phase at once, so the band, not
   its middle, is the honest error bar.
 
+For an oblique case, ``--model <tangential model> [--impact-index i]`` answers instead for one
+oblique impact of the sphere on a plane: omega', e_t, the rebound angle, v_t', T and eps
+(`analysis.oblique_timestep`; docs/timestep.md, "Oblique impacts").
+
 T_R = pi R sqrt(rho / G) / (0.1631 nu + 0.8766), G = Y / (2 (1 + nu)) of the sphere (body 1;
 `contact_model.collision_scales.rayleigh_time`: Y = 2 E*, nu = 0 where the case gives only E*), and
 T_e = tau_e delta_e / V, Hertz's contact time (tau_e = 2.9432...).
