@@ -13,6 +13,10 @@ rounding: docs/timestep.md) replayed at 24 phases of the contact's start on the 
   min / median / max over the phases: a production run has every phase at once, so the band, not
   its middle, is the honest error bar.
 
+For an oblique case, ``--model <tangential model> [--impact-index i]`` answers instead for one
+oblique impact of the sphere on a plane: omega', e_t, the rebound angle, v_t', T and eps
+(`analysis.oblique_timestep`; docs/timestep.md, "Oblique impacts").
+
 T_R = pi R sqrt(rho / G) / (0.1631 nu + 0.8766), G = Y / (2 (1 + nu)) of the sphere (body 1;
 `contact_model.collision_scales.rayleigh_time`: Y = 2 E*, nu = 0 where the case gives only E*), and
 T_e = tau_e delta_e / V, Hertz's contact time (tau_e = 2.9432...).
@@ -270,11 +274,31 @@ def largest_step(c: Collision, tolerance: float, phases=None, cache: dict | None
         e = cache[x]
         return {q: bool(np.all(np.abs(e[q]) <= tolerance)) for q in quantities}
 
+    return scan_grid(passes, lambda x: steps_for(c, x * to_h) <= MAX_STEPS, quantities)
+
+
+def scan_grid(passes, fits, quantities: tuple[str, ...]) -> dict[str, float]:
+    """{quantity: dt_max / T_R} from a pass/fail test of each step: the scan of `largest_step`.
+
+    `GRID_OVER_T_R` is scanned from its coarsest step down to the finest that `fits`; dt_max lies
+    between the first step that passes, with the next CONFIRM finer steps passing too, and the step
+    above it, and is refined there by BISECTIONS bisections in log dt (0 where no step passes).
+
+    Parameters
+    ----------
+    passes : callable
+        passes(x) -> {quantity: bool}: whether the step x T_R holds the tolerance at every phase.
+    fits : callable
+        fits(x) -> bool: whether a replay at x T_R is within its step budget (the scan stops at
+        the first that is not).
+    quantities : tuple of str
+        The quantities answered.
+    """
     found: dict[str, tuple[float, float | None]] = {}
     candidate: dict[str, tuple[float, float | None, int]] = {}  # q -> (x, the failing step above, passes so far)
     above = None
     for x in GRID_OVER_T_R[::-1]:
-        if steps_for(c, x * to_h) > MAX_STEPS:
+        if not fits(x):
             break
         ok = passes(x)
         for q in quantities:
@@ -755,8 +779,8 @@ def main(argv=None) -> int:
     parser = _Parser(prog="python -m postprocess.timestep", description=__doc__.split("\n\n")[0],
                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("case", help="a case file (cases/*.yaml)")
-    parser.add_argument("--law", required=True, help="a law of the study (contact_model/laws.py) or a keyword "
-                                                     "(contact_model/keywords.py, e.g. lammps:tsuji)")
+    parser.add_argument("--law", help="a law of the study (contact_model/laws.py) or a keyword "
+                                      "(contact_model/keywords.py, e.g. lammps:tsuji); required without --model")
     parser.add_argument("--code", help="the engine code whose keyword the law `default` is")
     which = parser.add_mutually_exclusive_group()
     which.add_argument("--restitution", type=float, help="the restitution told to a keyword, or restituted by "
@@ -767,6 +791,11 @@ def main(argv=None) -> int:
     parser.add_argument("--tolerance", type=float, default=1e-3,
                         help=f"relative error to hold, in [{TOLERANCE_FLOOR:g}, 1) (default 1e-3)")
     parser.add_argument("--dt", help="your time step: seconds (1e-7, '50 ns') or a multiple of T_R or T_e (0.2T_R)")
+    parser.add_argument("--model", help="an oblique case: a tangential model (contact_model/tangential_models.yaml, "
+                                        "e.g. lammps:mindlin); answers omega', e_t, the rebound angle, v_t', T and "
+                                        "eps of one impact (--impact-index) against the model's own equation")
+    parser.add_argument("--impact-index", type=int, default=0,
+                        help="with --model: which of the case's oblique impacts (default 0)")
     parser.add_argument("--json", action="store_true", help="print the answer as JSON (a list of objects; "
                                                             "{\"error\": {...}} when refused)")
     try:
@@ -784,18 +813,40 @@ def main(argv=None) -> int:
                                "for: the reference solution is integrated to about 1e-12 and the map follows the "
                                "engines' runs to 8e-13, so their own errors would be a sizeable part of the error it "
                                "measures", "--tolerance")
+        if args.model is None and args.law is None:
+            raise AdvisorError("the following arguments are required: --law (or --model for an oblique case)",
+                               "--law")
+        if args.model is not None:
+            for name, value in (("--code", args.code), ("--restitution", args.restitution), ("--K", args.K),
+                                ("--velocity", args.velocity)):
+                if value is not None:
+                    raise AdvisorError(f"{name} with --model: an oblique impact's velocities are the case's "
+                                       "(--impact-index picks one) and its normal law is the case's viscosity; "
+                                       f"drop {name}", name)
         if args.dt:
             parse_dt(args.dt, 1.0, 1.0)  # its form, before the case is read (its value in T_R, T_e: below)
         case = load_case(args.case)
-        velocity = _velocity(args.velocity) if args.velocity is not None else None
-        cs = collisions(case, args.law, args.code, args.restitution, args.K, velocity)
-        steps = []
-        for c in cs:  # every step checked before any is answered
-            dt_s = parse_dt(args.dt, c.T_R, c.T_e) if args.dt else None
+        if args.model is not None:
+            from analysis import oblique_timestep
+
+            o = oblique_timestep.oblique_step(case, args.model, args.impact_index, args.law)
+            dt_s = parse_dt(args.dt, o.T_R, o.T_e) if args.dt else None
             if dt_s is not None:
-                check_dt(c, dt_s, args.dt)
-            steps.append(dt_s)
-        rows = [row for c, dt_s in zip(cs, steps) for row in advise(c, args.tolerance, dt_s)]
+                oblique_timestep.check_dt(o, dt_s, args.dt)
+            rows = oblique_timestep.advise(o, args.tolerance, dt_s)
+            answer = (json.dumps(rows, indent=1, allow_nan=False) if args.json
+                      else oblique_timestep.text(rows, o, bool(args.dt)))
+        else:
+            velocity = _velocity(args.velocity) if args.velocity is not None else None
+            cs = collisions(case, args.law, args.code, args.restitution, args.K, velocity)
+            steps = []
+            for c in cs:  # every step checked before any is answered
+                dt_s = parse_dt(args.dt, c.T_R, c.T_e) if args.dt else None
+                if dt_s is not None:
+                    check_dt(c, dt_s, args.dt)
+                steps.append(dt_s)
+            rows = [row for c, dt_s in zip(cs, steps) for row in advise(c, args.tolerance, dt_s)]
+            answer = json.dumps(rows, indent=1, allow_nan=False) if args.json else _text(rows, cs, bool(args.dt))
     except (AdvisorError, CaseError, OSError) as err:
         print(f"error: {err}", file=sys.stderr)
         if as_json:
@@ -805,7 +856,7 @@ def main(argv=None) -> int:
         if as_json:  # a defect of the advisor: still JSON on stdout, and the traceback on stderr
             print(_error_json(err))
         raise
-    print(json.dumps(rows, indent=1, allow_nan=False) if args.json else _text(rows, cs, bool(args.dt)))
+    print(answer)
     return 0
 
 
