@@ -139,7 +139,7 @@ rule all:
         "results/reference/collisions.csv",
         lambda w: BUILD_PAIR_COMPARISONS,  # config compare_builds (workflow/rules/compare.smk, below)
         # extras `oblique`: the reduced oblique set's gate (workflow/rules/oblique.smk)
-        lambda w: ["results/oblique/reduced/gate.txt"] if "oblique" in EXTRAS and config.get("oblique") else [],
+        lambda w: ["results/oblique/reduced/gate.txt"] if OBLIQUE_IN_ALL else [],
 
 
 #: What stops the workflow before any job, each with what to do: bad case files (workflow/rules/

@@ -59,7 +59,14 @@ rule oblique_summary:
     script: "../scripts/oblique_summary.py"
 
 
-OBLIQUE_BUILDS = [b for b in OBLIQUE["builds"] if b in BUILDS]
+def oblique_builds():
+    """The builds the oblique sets run: those of config oblique.builds the study has, or, where it has
+    none of them (a study of builds of your own), every study build whose code has an oblique driver."""
+    named = [b for b in OBLIQUE["builds"] if b in BUILDS]
+    return named or [b for b, build in BUILDS.items() if CODES[build.code].oblique_driver]
+
+
+OBLIQUE_BUILDS = oblique_builds()
 
 
 rule oblique_gate:

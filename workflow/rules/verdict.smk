@@ -19,6 +19,10 @@ rule summary:
     script: "../scripts/study_summary.py"
 
 
+#: Whether `all` runs the oblique reduced set: extras `oblique`, config `oblique:`, and a build whose code
+#: has an oblique driver (workflow/rules/oblique.smk picks them).
+OBLIQUE_IN_ALL = bool("oblique" in EXTRAS and config.get("oblique")
+                      and any(CODES[b.code].oblique_driver for b in BUILDS.values()))
 PAPER_FIGURES = {1: "fig1_phi", 3: "fig3_eps_collapse", 4: "fig4_energy", 5: "fig5_fracture"}
 EXTRA_REPORT_INPUTS = {
     **({"convergence": "results/convergence/largest_dt.csv", "convergence_orders": "results/convergence/orders.csv",
@@ -31,7 +35,7 @@ EXTRA_REPORT_INPUTS = {
     **({"calibration": "results/calibration/report.md"} if "calibration" in EXTRAS else {}),
     # The oblique impacts' reduced set (workflow/rules/oblique.smk): its report, a section; its gate is
     # part of `all` (a FAIL there fails the run, with its own junit.xml and verdict.json).
-    **({"oblique": "results/oblique/reduced/report.md"} if "oblique" in EXTRAS and config.get("oblique") else {}),
+    **({"oblique": "results/oblique/reduced/report.md"} if OBLIQUE_IN_ALL else {}),
     **({"regressions": "results/lammps/regressions.csv"}
        if "lammps_regressions" in EXTRAS and LAMMPS_BUILDS else {}),
 }
