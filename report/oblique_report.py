@@ -142,7 +142,8 @@ def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
                         label=f"{build} {model}")
             try:
                 first = g.drop_duplicates("angle").sort_values("angle")
-                ax.plot(first.angle, rigid_line(first, q), "k--", lw=1.2, label="rigid body, gross sliding")
+                ax.plot(first.angle, rigid_line(first, q), "k--", lw=1.2,
+                        label="rigid body, gross sliding" + (" (fixed normal)" if geometry == "sphere-sphere" else ""))
             except (AttributeError, KeyError, ValueError):
                 pass  # rows without masses (an old summary): no rigid line
             ax.set_title(geometry)
@@ -230,8 +231,11 @@ def write_oblique_report(summary: pd.DataFrame, limits: pd.DataFrame, checks: pd
         lines += ["## Gross sliding against the rigid-body closed form", "",
                   "Where the contact slides throughout, dv_t = -mu (1 + eps) v_n and, for a sphere on a plane with "
                   "lever arm R, dw = (5/2) mu (1 + eps) v_n / R. The difference is the engine's at dt -> 0; a "
-                  "code whose arm is R - delta/2 departs from the second by the overlap's share.", ""]
+                  "code whose arm is R - delta/2 departs from the second by the overlap's share. On the plane "
+                  "only: between two spheres the line of centres turns during the contact, which the closed "
+                  "form (a fixed normal) does not (about delta/R).", ""]
         g = limits.dropna(subset=["rigid_vt_after"])
+        g = g[g.geometry == "sphere-plane"]
         V = np.hypot(g.normal_velocity, g.tangential_velocity)
         table = pd.DataFrame({"build": g.build, "model": g.model, "geometry": g.geometry,
                               "angle [deg]": g.angle.map(lambda a: f"{a:.4g}"),
