@@ -184,6 +184,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         install_hint="install Debian's build with `sudo apt-get install liggghts` (or `make engines`)",
         parameters=model_to_engine.liggghts_hertz_stiffness,
         driver="engines.liggghts:run_liggghts", decks=("cases/decks/liggghts/*.in",),
+        oblique_driver="engines.liggghts_oblique:run_liggghts_oblique",
         default_law="`model hertz` with `coefficientRestitution`",
         cost=EngineCost(start_s=1.0, per_run_s=0.002, per_step_s=15e-6)),
     EngineCode(
