@@ -46,8 +46,8 @@ MATRIX = "@@gated-matrix@@"
 #: What the study does not validate, said under every report's verdict (docs/verdict.md).
 NOT_VALIDATED = ("**The tangential half** (tangential force, friction, rotation, oblique impacts) is not part of this "
                  "matrix: every run here is a head-on collision (the normal force alone). It is gated apart, "
-                 "in LAMMPS's and YADE's tangential models only (the section \"Oblique impacts\" where the study "
-                 "runs it, `snakemake -j2 oblique`, docs/tangential.md); LIGGGHTS, ESyS and Kratos are not run "
+                 "in LAMMPS's, YADE's and LIGGGHTS's tangential models only (the section \"Oblique impacts\" where "
+                 "the study runs it, `snakemake -j2 oblique`, docs/tangential.md); ESyS and Kratos are not run "
                  "oblique yet, and a PASS here says nothing about their tangential force.")
 
 

@@ -43,6 +43,10 @@ def test_the_codes_with_a_driver_run_their_models():
     assert "lammps:hooke/history" not in {m.name for m in lammps}  # a linear normal spring: out of scope
     yade, _ = models_for("yade", "YADE 2023.02a")
     assert [m.name for m in yade] == ["yade:mindlin"]
+    # no_history has no spring (viscous friction alone): not a form of the reference, out of scope
+    liggghts, _ = models_for("liggghts", "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled 2022-01-26)")
+    assert [m.name for m in liggghts] == ["liggghts:history"]
+    assert "no tangential spring" in TANGENTIAL_MODELS["liggghts:no_history"].out_of_scope
     with pytest.raises(KeyError, match="unknown tangential model 'lammps:nope'"):
         form_of("lammps:nope", "sphere-plane")
     with pytest.raises(KeyError, match="has no sphere-sphere contact"):
