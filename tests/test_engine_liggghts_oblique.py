@@ -6,15 +6,14 @@ one and two MPI ranks give the same dump, the contact's history crossing the pro
 Cases: Chung & Ooi's test 4 (alumina on a plane, V = 3.9 m/s, mu = 0.092) at 10 deg (stick, then
 micro-slip) and 60 deg (gross sliding); test 8 (an aluminium sphere spinning onto one 5 times larger,
 1000 times denser and stiffer, v_n = 0.2 m/s, mu = 0.4) at a contact-point incidence of 10 deg. The
-ladder is the study's three coarsest rungs (T_e/1000, /2000, /4000), enough for the gate (three rungs
-to extrapolate) and under a minute of engine time here.
+ladder is the study's four coarsest rungs (T_e/1000 ... /8000; see LADDER); the file takes ~55 s here
+(6 tests, with another engine process sharing the 2 cores).
 
-Measured (this machine, `.venv/bin/python -m pytest tests/test_engine_liggghts_oblique.py`; the same
-figures with the study's five rungs from `snakemake -j2 oblique_reduced`, docs/tangential.md): every check
-passes with |error| <= 3.3e-8 and resolution <= 7.6e-8 at five rungs; on two ranks every column of every
-dump equals the serial one bitwise (the plane's sphere moves from rank 0 to rank 1 in mid-contact, the two
-spheres sit on different ranks). k_t x (1 + 1e-4) moves omega' at 10 deg by ~1e-4 relative; mu x (1 +
-1e-4) moves v_t' and omega' at 60 deg by ~1e-4 of their change.
+Measured (docs/tangential.md, the study's five rungs on the reduced set): every check passes with |error|
+<= 3.3e-8 and resolution <= 7.6e-8; on two ranks every column of every dump equals the serial one bitwise
+(the plane's sphere moves from rank 0 to rank 1 in mid-contact, the two spheres sit on different ranks).
+At T_e/8000, k_t x (1 + 1e-4) moves omega' by -1.0e-4 and e_t by -2.0e-3 (relative) at 10 deg on the
+plane, v_t' by -1.9e-3 between the spheres; mu x (1 + 1e-4) moves omega' and F_t,max by 1.0e-4 at 60 deg.
 """
 
 from pathlib import Path
