@@ -32,7 +32,9 @@ defect's size in it and without. The figures in the docstrings are what these ru
     (a defect, not a discretisation error). At 60 deg (sliding throughout in the right model: every
     step at the cap) 10 % of the steps reach the cap and the median |F_t| / mu |F_n| is 0.58: the
     spring collapses after each slip step and rebuilds, the signature of the history reset by k
-    instead of k a.
+    instead of k a. Through the oblique gate (22 Jul 2025, 10 deg, T_e/1000 ... /4000): T and eps
+    PASS, e_t's limit error -0.473 and the other tangential quantities are KNOWN DEFECT under the
+    config's declaration (max_error 0.5), FAIL without it or beyond a smaller declared size.
 
 Every engine is run for real; a missing one is skipped with its install hint (CI fails instead).
 """
@@ -220,6 +222,42 @@ def test_classic_wall_damped_against_its_own_equation(build, tmp_path, runs_engi
     if build == "lammps-2025":  # the gated build: the config declares the size
         (d,) = [d for d in declared if d["build"] == "lammps-2025"]
         assert d["max_error"] == CLASSIC_SIZE
+
+
+def test_damped_classic_wall_in_the_gate_is_a_known_defect_never_a_pass(tmp_path, runs_engine):
+    """(d) end to end through the oblique gate (analysis.oblique), the gated build 22 Jul 2025, 10 deg,
+    a ladder T_e/1000 ... /4000: undeclared, e_t and omega_after FAIL; with the config's declaration
+    (max_error 0.5) they read KNOWN DEFECT, none FAIL and none PASS of them; declared smaller (0.1) than
+    e_t's 0.47, e_t FAILs "beyond the known defect's declared size"."""
+    from analysis.oblique import limit_rows, oblique_checks, rung_rows
+    from engines.oblique_plan import ObliquePlan
+
+    exe = lammps("lammps-2025")
+    plan = oblique_plan([load_case(DAMPED)], "lammps", "lammps-2025", version_line(exe, "lammps", "LAMMPS"),
+                        (1000, 2000, 4000))
+    ladder = [r for r in plan.runs if r.model == "lammps:hertz/history" and abs(r.angle - 10.0) < 1e-9]
+    sweep = run_lammps_oblique(ladder, tmp_path, exe).raise_first()
+    tolerance = float(CONFIG["oblique"]["tolerance"])
+
+    def gate(declared):
+        limits = limit_rows(rung_rows(ladder, sweep, declared))
+        checks = oblique_checks(limits, tolerance, planned=ObliquePlan(runs=ladder, build="lammps-2025"),
+                                failures=sweep.failures, known_defects=declared)
+        return checks.set_index("quantity")
+
+    declared = [d for d in CONFIG["oblique"]["known_defects"]
+                if d["build"] == "lammps-2025" and d["model"] == "lammps:hertz/history"]
+    plain, known = gate(()), gate(declared)
+    smaller = gate([{**declared[0], "max_error": 0.1}])
+    print(f"\n(d) gate, 22 Jul 2025, 10 deg: e_t limit error {known.loc['e_t', 'error']:.3g}, omega_after "
+          f"{known.loc['omega_after', 'error']:.3g}; statuses {dict(known.status)}")
+    assert {"e_t", "omega_after", "vt_after", "Ft_max"} <= set(plain.index[plain.status == "FAIL"])
+    assert (known.status != "FAIL").all(), known[known.status == "FAIL"].to_string()
+    for q in ("e_t", "omega_after", "vt_after", "Ft_max"):
+        assert known.loc[q, "status"] == "KNOWN DEFECT" and declared[0]["reference"] in known.loc[q, "detail"]
+    assert known.loc["e_t", "error"] == pytest.approx(-0.47, abs=0.01)
+    assert smaller.loc["e_t", "status"] == "FAIL" and "beyond the known defect's declared size" in smaller.loc[
+        "e_t", "detail"]
 
 
 # (c) ------------------------------------------------------------------------------------------------
