@@ -64,6 +64,13 @@ class EsysObliqueRun:
 
     def __init__(self, name: str, radius: float, density: float, young: float, poisson: float, friction: float,
                  speed: float, angle: float, time_step_factor: float):
+        for field, value in (("radius", radius), ("density", density), ("young", young), ("speed", speed),
+                             ("time_step_factor", time_step_factor)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"ESyS oblique run {name!r}: {field} must be a finite number > 0, got {value!r}")
+        if not (0 <= poisson < 0.5 and 0 <= friction < math.inf and 0 <= angle < 90):
+            raise ValueError(f"ESyS oblique run {name!r}: poisson must be in [0, 0.5), friction >= 0 and finite, "
+                             f"angle in [0, 90) deg; got {poisson!r}, {friction!r}, {angle!r}")
         self.name, self.radius, self.density = name, radius, density
         self.young, self.poisson, self.friction = young, poisson, friction
         self.speed, self.angle, self.time_step_factor = speed, angle, time_step_factor
@@ -124,7 +131,7 @@ def run_esys_oblique(runs: list[EsysObliqueRun], workdir, executable: str = EXEC
     """Run the collisions in one ESyS process; {run name: {column: values per step}}.
 
     Raises EngineMissing if esysparticle or mpirun is missing, EngineRunFailed (naming the log) if a
-    run did not complete.
+    run did not complete (an error in the deck, or ESyS stopped or killed at `timeout_s` [s]).
     """
     import json
 
@@ -137,7 +144,9 @@ def run_esys_oblique(runs: list[EsysObliqueRun], workdir, executable: str = EXEC
     for run in runs:
         st = status["runs"].get(run.name)
         if done.returncode != 0 or not st or not st["ok"]:
-            why = st["error"] if st and not st["ok"] else f"ESyS ended with {done.returncode}, no status for it"
+            why = (st["error"] if st and not st["ok"] else
+                   f"ESyS stopped at its time limit ({timeout_s:g} s)" if done.returncode is None else
+                   f"ESyS ended with exit status {done.returncode}, no status for the run")
             raise EngineRunFailed(run.name, why, files.log, engine="esys", case=run.case)
         data = np.loadtxt(files.raws[run.name], delimiter=",", skiprows=1, ndmin=2)
         out[run.name] = {c: data[:, i] for i, c in enumerate(COLUMNS)}

@@ -384,3 +384,26 @@ def test_esys_tangential_impulse_meets_its_own_equation(esys_runs):
     assert abs(limit / own["stick-200"] - 1) < 2e-5
     assert abs(err["slide-200"]) < 1e-5
     assert abs(with_torque / J["stick-200"]) < 0.05
+
+
+def test_esys_check_refuses_bad_numbers_naming_the_field():
+    """The host refuses a run it cannot describe before ESyS starts, naming the run and the field."""
+    from engines.esys_oblique import EsysObliqueRun
+
+    with pytest.raises(ValueError, match=r"'bad'.*radius must be a finite number > 0, got -0.001"):
+        EsysObliqueRun("bad", -1e-3, RHO, E, NU, MU, V, 10.0, 100)
+    with pytest.raises(ValueError, match=r"'bad'.*angle in \[0, 90\) deg"):
+        EsysObliqueRun("bad", R, RHO, E, NU, MU, V, 95.0, 100)
+
+
+def test_esys_check_stopped_at_its_time_limit_fails_naming_the_log(tmp_path, runs_engine):
+    """ESyS killed at its time limit (0.5 s: it takes ~1 s to start) is an EngineRunFailed naming the
+    run, the limit and the log, never a record."""
+    from engines.errors import EngineRunFailed
+    from engines.esys_oblique import EsysObliqueRun, run_esys_oblique
+
+    require_engine("esysparticle", "esys-particle")
+    run = EsysObliqueRun("too-slow", R, RHO, E, NU, MU, V, 10.0, 100)
+    with pytest.raises(EngineRunFailed) as err:
+        run_esys_oblique([run], tmp_path, timeout_s=0.5)
+    assert "too-slow" in str(err.value) and "time limit (0.5 s)" in str(err.value) and "esys.log" in str(err.value)
