@@ -26,7 +26,7 @@ import yaml
 
 from contact_model import LAW_REGISTRY, load_case
 from contact_model.keywords import KEYWORDS
-from engines.codes import CODES, law_unavailable
+from engines.codes import CODES, KIT_CODES, law_unavailable
 from engines.plan import plan_listing, plan_runs
 from engines.run_spec import GAP_STEPS, RunSpec
 from records.dump_file import COLUMNS, FORMAT_VERSION
@@ -65,7 +65,7 @@ def carrier_for(laws: list[str], keyword: str | None) -> tuple[str, list[str]]:
         if k.told != "e":
             raise ExportError(f"keyword {keyword!r} is told {k.told}, not a restitution e: the kit exports keywords "
                               "told e (" + ", ".join(n for n, kw in KEYWORDS.items() if kw.told == "e") + ")")
-        if CODES[k.code].keyword == keyword:
+        if k.code in KIT_CODES or CODES[k.code].keyword == keyword:  # a code's own keyword: its law `default`
             return k.code, ["default"]
         law = next((n for n, entry in LAW_REGISTRY.items() if entry.keyword == keyword), None)
         if law is None:

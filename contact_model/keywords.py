@@ -436,6 +436,18 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
             lambda e: 2.5 * log_beta(e, pi=3.1415926), "2.3.5",
             "Model/HertzMindlinViscoInteraction.cpp:135-147 @2.3.5 (Antypov 2011, eq. 6; pi written 3.1415926; "
             "the force is not clipped)"),
+    # A code the study runs no engine of (engines.codes.KIT_CODES): the conformance kit exports its plans for
+    # a user to run in their own build; the study never plans it (no build of config `builds:` can name it).
+    Keyword("chrono:smc_hertz", "chrono",
+            "ChSystemSMC with SetContactForceModel(Hertz) and UseMaterialProperties(true) (the defaults), "
+            "ChContactMaterialSMC::SetRestitution(e)", "quarter", True, "e", lambda e: 2.5 * log_beta(e),
+            "not run by the study (the conformance kit exports it)",
+            "src/chrono/physics/ChContactSMC.cpp:94-104 (S_n = 2 E* sqrt(R* delta), k_n = (2/3) S_n, "
+            "beta = ln e / sqrt(ln^2 e + pi^2), g_n = -2 sqrt(5/6) beta sqrt(S_n m*)), "
+            ":170 (F_n = k_n delta - g_n v_n), "
+            ":175-178 (the clip), src/chrono/physics/ChSystemSMC.cpp:35-36 (the defaults) @7689fbc0 (18 Aug 2026); "
+            "e and E* are stored as float (ChContactMaterialSMC.h:108), a relative 6e-8 off the double the plan "
+            "gives"),
 )}
 
 

@@ -394,8 +394,9 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1, plots: b
     figures_drawn = start_drawing(figures if plots else [], workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
     # What the study supplies of a law in each build's release, marked at the cells.
-    supplied = ({b: CODES[e].supplied_in(v) for (b, e), v in table.groupby(["build", "engine"], sort=False)
-                 .engine_version.first().items()} if has_rows else {})
+    # A code of the conformance kit alone (engines.codes.KIT_CODES) has no engine of the study: nothing supplied.
+    supplied = ({b: CODES[e].supplied_in(v) if e in CODES else {} for (b, e), v in
+                 table.groupby(["build", "engine"], sort=False).engine_version.first().items()} if has_rows else {})
     html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes, supplied), matrix_html(cells, supplied))}
 
     lines = [
