@@ -79,7 +79,8 @@ def spec_of(run: dict) -> RunSpec:
     pair = ContactPair(run["geometry"], body(run["body_1"]), body(run["body_2"]), run["effective"]["E_star_Pa"],
                        run["eta_Pa_s"])
     spec = RunSpec(run["case"], run["carrier_code"], run["law"], pair, run["impact_velocity_m_s"],
-                   run["time_step_factor"], matched_restitution=run["told_e"], reference=run["reference"],
+                   run["time_step_factor"], matched_restitution=run["told_e"], told_input=run.get("told_beta"),
+                   reference=run["reference"],
                    build=run["build"])
     if spec.name != run["name"] or not math.isclose(spec.time_step, run["dt_s"], rel_tol=1e-12):
         raise Refusal(f"plan.json: run {run['name']!r} is not what this study's planner makes of it "

@@ -167,3 +167,75 @@ def test_chrono_is_never_planned_into_the_studys_builds():
     assert all(b["code"] in CODES for b in config["builds"])
     assert "no engine" in law_unavailable("chrono", "viscoelastic")
     assert all(law_unavailable(c, "default") is None for c in CODES)
+
+
+# yade:betan told a damping ratio (--beta): YADE's Hertz-Mindlin in its own notation,
+# c_n = 2 beta sqrt(M* k_t), k_t = 2 E* sqrt(R* delta) the tangent stiffness (HertzMindlin.cpp:352-356
+# @2023.02a), F = (4/3) E* sqrt(R*) delta^(3/2) + c_n d(delta)/dt clipped at F >= 0 (:389-402): the
+# quarter form at b = sqrt(15/2) beta. PFC's hertz with dp_nratio = beta maps to it where PFC uses the
+# tangent stiffness and a no-tension dashpot (docs/other_codes.md).
+BETA = 0.1
+
+
+def yade_betan(beta: float, scale: float = 1.0):
+    """YADE's betan force told `beta`; `scale` multiplies its damping (b = sqrt(15/2) beta scale)."""
+    def law(run):
+        E, R, M = run["effective"]["E_star_Pa"], run["effective"]["R_star_m"], run["effective"]["M_star_kg"]
+
+        def force(d, rate):
+            k_t = 2.0 * E * math.sqrt(R * d)
+            return max(4.0 / 3.0 * E * math.sqrt(R) * d**1.5 + scale * 2.0 * beta * math.sqrt(M * k_t) * rate, 0.0)
+        return force
+    return law
+
+
+@pytest.fixture(scope="module")
+def betan_plan(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("betan") / "plan"
+    assert main(["export", STEEL, "--keyword", "yade:betan", "--beta", str(BETA), "--K", "0.1", "--out", str(out)]) == 0
+    return out
+
+
+def test_betan_plan_names_the_beta_it_is_given(betan_plan):
+    import csv
+
+    plan = load(betan_plan)
+    assert plan["laws"] == ["betan"] and plan["told_beta"] == BETA and len(plan["runs"]) == 8
+    for run in plan["runs"]:
+        assert run["told_beta"] == BETA and run["told_e"] is None and run["name"].endswith(f"-beta{BETA:.6f}")
+        # b = sqrt(15/2) beta, the coefficient of YADE's own equation (no Thornton map: beta as given)
+        assert run["law_equation"]["dimensionless_coefficient"] == pytest.approx(math.sqrt(7.5) * BETA, rel=1e-14)
+    rows = list(csv.DictReader((betan_plan / "plan.csv").open()))
+    assert {float(r["told_beta"]) for r in rows} == {BETA} and {r["told_e"] for r in rows} == {""}
+    assert f"told beta = {BETA:g} (`told_beta`" in (betan_plan / "README.md").read_text()
+
+
+def test_betan_round_trip_passes(betan_plan, tmp_path, capsys):
+    folder = copy_of(betan_plan, tmp_path)
+    write_dumps(folder, yade_betan(BETA))
+    assert main(["gate", str(folder), "--no-plots"]) == 0, capsys.readouterr().out
+    v = verdict(folder)
+    assert v["verdict"] == "PASS" and v["checked"] == 6 and v["promise"] == []  # no restitution asked: no promise
+    assert f"beta = {BETA:g}, given as it stands" in (folder / "report.md").read_text()
+
+
+def test_betan_with_b_1e_4_too_large_fails_naming_the_eps_checks(betan_plan, tmp_path, capsys):
+    folder = copy_of(betan_plan, tmp_path)
+    write_dumps(folder, yade_betan(BETA, 1 + PERTURBATION))
+    assert main(["gate", str(folder), "--no-plots"]) == 1
+    named = {f.split(":")[0] for f in verdict(folder)["failures"]}
+    for geometry in ("sphere-sphere", "sphere-plane"):
+        assert f"your_code betan {geometry} F0 eps" in named, named
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--keyword", "yade:betan"], "told a damping ratio beta, not a restitution: give it with --beta"),
+    (["--keyword", "lammps:velocity"], "it cannot be exported"),
+    (["--keyword", "yade:en", "--beta", "0.1"], "--beta is for keywords told beta"),
+    (["--beta", "0.1"], "--beta is the damping ratio of a keyword told one"),
+    (["--keyword", "yade:betan", "--beta", "0.1", "--told", "0.5"], "exclude each other"),
+])
+def test_what_cannot_be_exported_is_refused_in_words(args, words, tmp_path, capsys):
+    assert main(["export", STEEL, *args, "--out", str(tmp_path / "out")]) == 2
+    assert words in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
