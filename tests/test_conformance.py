@@ -5,7 +5,8 @@ and velocities in mm and mm/s through a column map PASS; every unusable input is
 naming the file, the row and the column; and the guide's walk-through script runs as it stands.
 
 Unit tier: everything runs in-process (`conformance.__main__.main`), the report without its
-figures (--no-plots) except once. One plan (steel, the viscoelastic law, both geometries, K = 0.1:
+figures (--no-plots) except once; but `test_the_gate_as_a_process_exits_0_1_and_2`, which starts
+`python -m conformance gate` as a process (workflow tier, by its `runs_workflow` fixture). One plan (steel, the viscoelastic law, both geometries, K = 0.1:
 two ladders of four runs) serves every test.
 """
 
