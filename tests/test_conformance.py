@@ -6,8 +6,9 @@ naming the file, the row and the column; and the guide's walk-through script run
 
 Unit tier: everything runs in-process (`conformance.__main__.main`), the report without its
 figures (--no-plots) except once; but `test_the_gate_as_a_process_exits_0_1_and_2`, which starts
-`python -m conformance gate` as a process (workflow tier, by its `runs_workflow` fixture). One plan (steel, the viscoelastic law, both geometries, K = 0.1:
-two ladders of four runs) serves every test.
+`python -m conformance gate` as a process (workflow tier, by its `runs_workflow` fixture). One
+plan (steel, the viscoelastic law, both geometries, K = 0.1: two ladders of four runs) serves every
+test.
 """
 
 from __future__ import annotations
