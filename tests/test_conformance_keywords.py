@@ -8,6 +8,11 @@ same integrator with its damping coefficient b 1e-4 too large FAILs, naming the 
   clipped at F >= 0 (ChContactSMC.cpp:94-104, 170-178 @7689fbc0), i.e. the quarter form at
   b = (5/2)|beta(e)|, beta(e) = ln e / sqrt(ln^2 e + pi^2). Chrono is no engine of the study: the
   keyword is exported by the kit and never planned into the study's builds.
+- `yade:betan` given a damping ratio (--beta): YADE's Hertz-Mindlin, c_n = 2 beta sqrt(M* k_t),
+  k_t = 2 E* sqrt(R* delta), clipped, i.e. the quarter form at b = sqrt(15/2) beta, the beta as given
+  (no restitution asked, no promise), named `told_beta` in plan.json, plan.csv and README.md.
+
+And what the kit cannot export is refused in words (exit 2, no plan written).
 
 Unit tier: in-process (`conformance.__main__.main`), the report without its figures.
 """
