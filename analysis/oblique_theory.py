@@ -31,7 +31,7 @@ from contact_model.case_file import load_case
 from contact_model.effective import effective_shear_modulus
 from contact_model.tangential_models import TANGENTIAL_MODELS, NoReference, form_of
 from reference import solve_oblique
-from reference.mindlin_deresiewicz import solve_mindlin_deresiewicz
+from reference.mindlin_deresiewicz import solve_mindlin_deresiewicz, stiffness_ratio
 
 DEFAULT_CASE = Path(__file__).resolve().parents[1] / "cases/oblique/chung_ooi_test4.yaml"
 #: The quantities compared, as `reference.ObliqueResult` names them.
@@ -99,7 +99,7 @@ def comparable_models(geometry: str = "sphere-plane") -> tuple[list[str], dict[s
 
 def theory_curve(case, velocity: float, angles) -> pd.DataFrame:
     """The theory (`solve_mindlin_deresiewicz`) at every angle: columns angle [deg], e_t [-],
-    omega_after [rad/s], rebound_angle [deg], vt_after [m/s], psi1, psi2 [-].
+    omega_after [rad/s], rebound_angle [deg], vt_after [m/s], psi1, psi2 [-], slides_throughout.
 
     Parameters
     ----------
@@ -114,7 +114,8 @@ def theory_curve(case, velocity: float, angles) -> pd.DataFrame:
     for angle in angles:
         r = solve_mindlin_deresiewicz(**plane_arguments(case, velocity, angle))
         rows.append(dict(angle=float(angle), e_t=r.e_t, omega_after=r.omega_after, rebound_angle=r.rebound_angle,
-                         vt_after=r.vt_after, psi1=r.psi1, psi2=r.psi2))
+                         vt_after=r.vt_after, psi1=r.psi1, psi2=r.psi2,
+                         slides_throughout=[p[0] for p in r.phases] == ["slide"]))
     return pd.DataFrame(rows)
 
 
@@ -224,11 +225,56 @@ def main(argv=None) -> int:
     print("|" + "---|" * len(table.columns))
     for row in table.itertuples(index=False):
         print("| " + " | ".join(str(v) for v in row) + " |")
-    gross = theory[theory.psi1 >= 1.0]
-    print(f"\nPsi_1 = 1 (slides from touching) at {gross.angle.min():g} deg on this grid" if len(gross) else "")
+    args_ = plane_arguments(case, velocity, 0.0)
+    onset = math.degrees(math.atan(case.friction / stiffness_ratio(args_["E_star"], args_["G_star"])))
+    gross = theory[theory.slides_throughout]
+    print(f"\nThe theory slides from touching (Psi_1 >= 1) above {onset:.3f} deg, throughout from "
+          f"{gross.angle.min():g} deg on this grid" if len(gross) else f"\nPsi_1 = 1 at {onset:.3f} deg")
     print("\nleft out: " + "; ".join(f"{k} ({v})" for k, v in left_out.items()))
     return 0
 
 
 if __name__ == "__main__":
     raise SystemExit(main())
+
+
+def case_file_of(name: str, folder=None) -> Path | None:
+    """The case file ``<name>.yaml`` under cases/ (searched below it), or None.
+
+    Parameters
+    ----------
+    name : str
+        The case's name (a summary row's ``case``).
+    folder : str or os.PathLike, optional
+        Where to look; default the project's cases/.
+    """
+    folder = Path(folder) if folder is not None else DEFAULT_CASE.parents[1]
+    return next(iter(sorted(folder.rglob(f"{name}.yaml"))), None)
+
+
+def theory_for_rows(rows: pd.DataFrame, step: float = 1.0) -> pd.DataFrame | None:
+    """The theory's curve for the limit rows of one case on the plane (report figures): the case file
+    found by name, the impact speed of the rows, angles from their smallest to their largest in
+    `step` degrees. None where it does not apply: not a plane, a law other than the elastic one (the
+    theory is elastic), a spin, or no case file of that name.
+
+    Parameters
+    ----------
+    rows : DataFrame
+        Limit rows of one case (columns case, geometry, law, spin, angle, normal_velocity,
+        tangential_velocity).
+    step : float
+        The grid's step [deg].
+    """
+    if not len(rows) or set(rows.geometry) != {"sphere-plane"} or set(rows.get("law", ["elastic"])) != {"elastic"}:
+        return None
+    if (rows.spin != 0).any():
+        return None
+    path = case_file_of(str(rows.case.iloc[0]))
+    if path is None:
+        return None
+    case = load_case(path)
+    velocity = float(np.hypot(rows.normal_velocity.iloc[0], rows.tangential_velocity.iloc[0]))
+    lo, hi = float(rows.angle.min()), float(rows.angle.max())
+    lo = min(lo, 1.0)  # from near normal incidence, where the theory and the codes part
+    return theory_curve(case, velocity, np.arange(lo, hi + step / 2, step))

@@ -8,11 +8,12 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy.integrate import solve_ivp
 
 from analysis.oblique_theory import (comparable_models, comparison_table, departures, main, model_curve,
-                                     plane_arguments, theory_curve)
+                                     plane_arguments, theory_curve, theory_for_rows)
 from contact_model.case_file import load_case
 from reference import TangentialForm, rigid_body_sliding, solve_oblique
 from reference.mindlin_deresiewicz import (load_rate, monotonic_tangential_load, normalised_incidence,
@@ -215,3 +216,33 @@ def test_a_case_without_a_plane_is_refused_by_name():
         plane_arguments(case, 1.0, 10.0)
     with pytest.raises(ValueError, match="chung_ooi_test8.yaml"):
         main([str(ROOT / "cases/oblique/chung_ooi_test8.yaml"), "--angles", "10"])
+
+
+@pytest.mark.parametrize("angle", [2.0, 8.0, 16.0, 25.0])
+def test_partial_slip_never_gains_energy(angle):
+    """Elastic normal half (eps = 1), so the kinetic energy after the impact is the one before less the
+    friction's work: (1/2) m (v_n^2 + v_t'^2) + (1/2) I w'^2 <= (1/2) m V^2, the loss at most the
+    tangential energy (1/2) m v_t^2 (it dissipates, never creates, at every angle)."""
+    kw = plane(angle)
+    md = solve_mindlin_deresiewicz(**kw)
+    before = 0.5 * MASS * V ** 2
+    after = 0.5 * MASS * (kw["v_n"] ** 2 + md.vt_after ** 2) + 0.5 * 0.4 * MASS * R * R * md.omega_after ** 2
+    assert 0.0 < before - after <= 0.5 * MASS * kw["v_t"] ** 2
+
+
+def test_the_report_draws_the_theory_only_where_it_applies():
+    """`theory_for_rows`: Chung & Ooi's test 4 on the plane (elastic, no spin) gets the theory's curve from
+    1 deg to its rows' largest angle, which meets the rigid-body value where it slides throughout; a pair,
+    a damped law, a spin or an unknown case gets none."""
+    th = math.radians(60.0)
+    rows = pd.DataFrame([dict(case="chung_ooi_test4", geometry="sphere-plane", law="elastic", spin=0.0, angle=60.0,
+                              normal_velocity=3.9 * math.cos(th), tangential_velocity=3.9 * math.sin(th))])
+    curve = theory_for_rows(rows, step=59.0)
+    assert list(curve.angle) == [1.0, 60.0] and bool(curve.slides_throughout.iloc[1])
+    case = load_case(ROOT / "cases/oblique/chung_ooi_test4.yaml")
+    a = plane_arguments(case, 3.9, 60.0)
+    I1 = 0.4 * a["m1"] * a["R1"] ** 2
+    rigid = rigid_body_sliding(a["v_n"], 1.0, case.friction, a["R1"], a["m1"], I1, v_s=a["v_t"])
+    assert curve.omega_after.iloc[1] == pytest.approx(rigid["dw1"], rel=1e-9)
+    for change in (dict(geometry="sphere-sphere"), dict(law="viscoelastic"), dict(spin=1.0), dict(case="no_such")):
+        assert theory_for_rows(rows.assign(**change)) is None
