@@ -172,7 +172,7 @@ def departures(theory: pd.DataFrame, model: pd.DataFrame, thresholds=THRESHOLDS)
     return out
 
 
-def comparison_table(case, velocity: float, angles, models=None) -> tuple[pd.DataFrame, pd.DataFrame]:
+def comparison_table(case, velocity: float, angles, models=None, curves=None) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The table of departures (one row per model and quantity) and the theory's curve.
 
     Parameters
@@ -185,12 +185,17 @@ def comparison_table(case, velocity: float, angles, models=None) -> tuple[pd.Dat
         Incidences [deg].
     models : sequence of str, optional
         Registry names; default `comparable_models`.
+    curves : dict, optional
+        Filled with {model: its `model_curve`} (for a figure).
     """
     angles = list(angles)
     theory = theory_curve(case, velocity, angles)
     rows = []
     for name in models or comparable_models()[0]:
-        d = departures(theory, model_curve(case, name, velocity, angles))
+        curve = model_curve(case, name, velocity, angles)
+        if curves is not None:
+            curves[name] = curve
+        d = departures(theory, curve)
         for q in QUANTITIES:
             def span(x, q=q):
                 r = d[f"over_{x:g}_{q}"]
@@ -198,6 +203,55 @@ def comparison_table(case, velocity: float, angles, models=None) -> tuple[pd.Dat
             rows.append({"model": name, "quantity": q, "D > 1 % [deg]": span(0.01), "D > 5 % [deg]": span(0.05),
                          "largest D": f"{d[f'max_{q}']:.3g}", "at [deg]": f"{d[f'at_{q}']:g}"})
     return pd.DataFrame(rows), theory
+
+
+def draw_psi(theory: pd.DataFrame, curves: dict, case, velocity: float, path) -> None:
+    """Maw, Barber & Fawcett's plane, as Chung & Ooi plot it: Psi_2 against Psi_1 for the theory and
+    every model, with the rigid-body line Psi_2 = (Psi_1 - kappa (1 + eps) M*/m_t)/eps (eps = 1,
+    M*/m_t = 7/2 for a solid sphere on a plane). Written to `path` (PNG).
+
+    Parameters
+    ----------
+    theory : DataFrame
+        `theory_curve`.
+    curves : dict
+        {model: `model_curve`} on the same angles.
+    case : contact_model.case_file.Case
+        The case (its moduli and friction give kappa and mu).
+    velocity : float
+        |V| [m/s].
+    path : str or os.PathLike
+        The PNG file.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from records.files import save_figure
+
+    a = plane_arguments(case, velocity, 0.0)
+    kappa, mu = stiffness_ratio(a["E_star"], a["G_star"]), case.friction
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for k, (name, curve) in enumerate(curves.items()):
+        th = np.radians(curve.angle)
+        psi1 = kappa * np.tan(th) / mu
+        v_n = velocity * np.cos(th)
+        psi2 = kappa * curve.e_t * velocity * np.sin(th) / (mu * v_n)  # eps = 1: v_n' = v_n
+        ax.plot(psi1, psi2, "-", lw=0.9, color=f"C{k}", label=name)
+    ax.plot(theory.psi1, theory.psi2, "k:", lw=1.8, label="Mindlin-Deresiewicz partial slip")
+    x = np.linspace(0.0, float(theory.psi1.max()), 50)
+    ax.plot(x, x - kappa * 2.0 * 3.5, "k--", lw=1.0, label="rigid body, gross sliding")
+    ax.set_xlim(0.0, min(12.0, float(theory.psi1.max())))
+    ax.set_ylim(-4.0, 6.0)
+    ax.set_xlabel("Psi_1 = kappa v_s / (mu v_n)")
+    ax.set_ylabel("Psi_2 = kappa v_s' / (mu v_n')")
+    ax.set_title(f"{case.name}: kappa = 4G*/E* = {kappa:.4f}, mu = {mu:g}")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    save_figure(fig, Path(path), dpi=110)
+    plt.close(fig)
 
 
 def _angles(text: str) -> list[float]:
@@ -214,10 +268,14 @@ def main(argv=None) -> int:
     parser.add_argument("case", nargs="?", default=str(DEFAULT_CASE), help="an oblique case file with a plane")
     parser.add_argument("--angles", default="1:85:1", help="start:stop:step or a comma list [deg] (default 1:85:1)")
     parser.add_argument("--velocity", type=float, default=None, help="|V| [m/s] (default: the case's first)")
+    parser.add_argument("--psi-figure", default=None, help="also draw Psi_2 against Psi_1 into this PNG file")
     args = parser.parse_args(argv)
     case = load_case(args.case)
     velocity = args.velocity if args.velocity is not None else case.velocities[0]
-    table, theory = comparison_table(case, velocity, _angles(args.angles))
+    curves = {}
+    table, theory = comparison_table(case, velocity, _angles(args.angles), curves=curves)
+    if args.psi_figure:
+        draw_psi(theory, curves, case, velocity, args.psi_figure)
     _, left_out = comparable_models()
     print(f"{case.name}: |V| = {velocity:g} m/s, mu = {case.friction:g}; D = |q_model - q_MD| / max|q_MD| over "
           f"{len(theory)} angles {theory.angle.min():g}-{theory.angle.max():g} deg\n")

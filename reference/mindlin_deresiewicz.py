@@ -38,9 +38,11 @@ Thornton's rules, kept:
 - where the normal load grows faster than the tangential one, |P'| < mu N' (the new rings stick:
   Mindlin–Deresiewicz's no-slip case), theta = 1: P' = 8 G* a v_s. At the switch both forms give
   P' = dir mu N', so P' is continuous; this is also the start of a contact with Psi_1 < 1 (below);
-- |P| <= mu N: where |P| reaches mu N the whole contact slides (gross sliding), P = dir mu N, and
-  the memory is wiped. Sliding ends where the stuck law would carry |P| back inside the cap,
-  8 G* a dir v_s < mu N' (the codes' criterion with their k_t = 8 G* a): after a reversal of the
+- |P| <= mu N: where |P| reaches mu N the whole contact slides (gross sliding), P = mu N sign(P),
+  and the memory is wiped; on either side (a load held behind a turning point meets the falling
+  cap too: the elastic recoil slides the contact back, as the codes' cap does). Sliding (dir =
+  sign(P)) ends where the stuck law would carry |P| back inside the cap, 8 G* a dir v_s < mu N'
+  (the codes' criterion with their k_t = 8 G* a): after a reversal of the
   slip (dir v_s < 0) as unloading from T* = dir mu N, else (the cap growing faster than the spring,
   N' > 0) as loading under the theta = 1 rule;
 - theta is kept in [0, 1].
@@ -485,6 +487,9 @@ def _integrate(c: _Contact, v_s0: float):
             add("reverse", lambda w, yy, d=direction: d * yy[1], -1.0)
             if math.isfinite(c.mu):
                 add("cap", lambda w, yy, d=direction: c.mu * c.normal(w)[2] - d * yy[2], -1.0)
+                # the turning points stay put, so while N falls the cap can come down onto a load
+                # held on the other side (the elastic recoil): the contact then slides that way
+                add("cap behind", lambda w, yy, d=direction: c.mu * c.normal(w)[2] + d * yy[2], -1.0)
                 if len(reversals) >= 2:  # back at the reversal before its own: the older branch goes on
                     add("return", lambda w, yy, d=direction: d * (yy[2] - yy[-2]), 1.0)
                 elif len(reversals) == 1:  # back at -T*: virgin loading in this direction
@@ -531,8 +536,9 @@ def _integrate(c: _Contact, v_s0: float):
         elif name == "reverse":
             y = np.append(y, y[2])
             direction = -direction
-        elif name == "cap":
+        elif name in ("cap", "cap behind"):
             kind = "slide"
+            direction = direction if name == "cap" else -direction
             y = np.array([y[0], y[1], direction * c.mu * N])
         elif name == "return":
             drop = 2 if len(reversals) >= 2 else 1
