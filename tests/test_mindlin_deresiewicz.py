@@ -159,15 +159,15 @@ def small_angle_limit(angle):
 
 def test_the_small_angle_limit_is_the_laws_own_not_the_codes():
     """As mu -> inf (Psi_1 -> 0) the law tends to its own limit (`small_angle_limit`, integrated apart, to
-    1e-6 in e_t at mu = 1e8), which keeps Thornton's term N' (P - P_r)/(3 c N) while N falls and so is not the codes'
+    5e-6 in e_t at mu = 1e6), which keeps Thornton's term N' (P - P_r)/(3 c N) while N falls and so is not the codes'
     no-slip law (P' = 8 G* a v_s: e_t 1.0135 here, > 0.1 away); at the case's mu = 0.092 the law comes
     within 1e-2 of that limit by 0.01 deg (Psi_1 = 1.7e-3)."""
     limit = small_angle_limit(1.0)
-    # mu = 1e8: the law's last slide, where the closing cap meets the load held at the turning point,
-    # moves e_t by ~mu^(-1/2) (measured: 3.1e-6 at mu = 1e6, 3.1e-7 at 1e8)
-    md = solve_mindlin_deresiewicz(**plane(1.0, mu=1e8))
+    # the law's last slide, where the closing cap meets the load held at the turning point, moves e_t by
+    # ~mu^(-1/2) (measured: 3.1e-6 at mu = 1e6, 3.1e-7 at 1e8, which takes ten times as long): 5e-6 at 1e6
+    md = solve_mindlin_deresiewicz(**plane(1.0, mu=1e6))
     assert [p[0] for p in md.phases][:3] == ["load", "unload", "reload"]  # (and a slide as the cap closes at the end)
-    assert md.e_t == pytest.approx(limit, abs=1e-6)
+    assert md.e_t == pytest.approx(limit, abs=5e-6)
     code = solve_oblique(**plane(1.0, mu=math.inf), eta=0.0, clipped=False, form=TangentialForm(history="force"))
     assert abs(code.e_t - md.e_t) > 0.1
     # at finite mu the same closing-cap slide leaves ~Psi_1^(1/2) (measured: 6.0e-3 at 0.01 deg)
