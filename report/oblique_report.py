@@ -104,8 +104,10 @@ def rigid_line(limits: pd.DataFrame, q: str) -> pd.Series:
 
 def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
     """One figure per quantity of FIGURES against the incidence angle [deg], a panel per geometry:
-    every build and model (markers: the engine at dt -> 0), each model's reference (line) and the
-    rigid-body gross-sliding line (dashed). Returns the files' names.
+    every build and model (markers: the engine at dt -> 0), each model's reference (line), the
+    rigid-body gross-sliding line (dashed) and, on the plane of an elastic case, Mindlin–Deresiewicz
+    partial slip (dotted, `analysis.oblique_theory.theory_for_rows`, computed once per case). Returns
+    the files' names.
 
     Parameters
     ----------
@@ -127,6 +129,14 @@ def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
     plain = limits[(limits.spin == 0) & (limits.get("ranks", 1) == 1)] if "spin" in limits else limits
     geometries = [g for g in ("sphere-plane", "sphere-sphere") if (plain.geometry == g).any()]
     markers = "osD^vP*Xh<>"
+    from analysis.oblique_theory import theory_for_rows
+
+    theory = {}  # {case: the theory's curve or None}, for the three figures
+    for case, rows in plain[plain.geometry == "sphere-plane"].groupby("case"):
+        try:
+            theory[case] = theory_for_rows(rows)
+        except (ValueError, RuntimeError, KeyError, OSError):
+            theory[case] = None  # a case file that no longer reads, or a theory that refuses: no curve
     for q, label, file_name in FIGURES:
         if q not in plain or not geometries:
             continue
@@ -146,6 +156,10 @@ def draw_figures(limits: pd.DataFrame, folder) -> list[str]:
                         label="rigid body, gross sliding" + (" (fixed normal)" if geometry == "sphere-sphere" else ""))
             except (AttributeError, KeyError, ValueError):
                 pass  # rows without masses (an old summary): no rigid line
+            for case in sorted(set(g.case)) if geometry == "sphere-plane" else ():
+                md = theory.get(case)
+                if md is not None:
+                    ax.plot(md.angle, md[q], "k:", lw=1.6, label=f"Mindlin-Deresiewicz partial slip ({case})")
             ax.set_title(geometry)
             ax.set_xlabel("incidence from the normal [deg]")
             ax.set_ylabel(label)
