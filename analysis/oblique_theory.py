@@ -263,7 +263,18 @@ def _angles(text: str) -> list[float]:
 
 
 def main(argv=None) -> int:
-    """Print the table of departures (markdown) for a case; module docstring."""
+    """Print the table of departures (markdown) for a case; module docstring.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The command line after the program name (None: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0.
+    """
     parser = argparse.ArgumentParser(prog="python -m analysis.oblique_theory", description=__doc__.split("\n\n")[0])
     parser.add_argument("case", nargs="?", default=str(DEFAULT_CASE), help="an oblique case file with a plane")
     parser.add_argument("--angles", default="1:85:1", help="start:stop:step or a comma list [deg] (default 1:85:1)")
