@@ -24,7 +24,7 @@ import pandas as pd  # noqa: E402
 
 from contact_model import CRITERIA, GATED_LAWS  # noqa: E402
 from reference import hertz_ratios, paper_series_value  # noqa: E402
-from records.files import save_figure  # noqa: E402
+from records.files import save_figure, set_margins  # noqa: E402
 
 from verdict.gate import GATED_QUANTITIES  # noqa: E402
 from .report_matrix import build_order  # noqa: E402
@@ -102,6 +102,9 @@ def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=N
     K = np.asarray(curve.K)
     ref = hertz_ratios(curve, criterion)
     runs = table[(table.criterion == criterion) & table.law.isin(GATED_LAWS)]
+    # The columns drawn alone: every selection below copies its rows, of every column it keeps.
+    drawn = ["build", "geometry", "K", *RATIO, *(scale for _, scale in RATIO.values() if isinstance(scale, str))]
+    runs = runs[[c for c in dict.fromkeys(drawn) if c in runs.columns]]
     present = _builds(runs, builds)
     styles = build_styles(build_order(builds, table))
     fig, axes = plt.subplots(1, 5, figsize=(20, 4.2))
@@ -115,7 +118,9 @@ def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=N
         ax.grid(alpha=0.3)
     _legend(axes[0], styles, present)
     fig.suptitle(f"Criterion {criterion}: every engine run of every case (viscoelastic laws)")
-    fig.tight_layout()
+    # Margins in inches, not tight_layout (records.files.set_margins): room for the suptitle and
+    # the titles above, the tick labels and K below, the ratios' tick labels left of each panel.
+    set_margins(fig, left=0.55, right=0.15, top=0.75, bottom=0.5, wspace=0.2)
     save_figure(fig, path, dpi=110)
     plt.close(fig)
 
@@ -125,6 +130,10 @@ def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -
     (x0, F0) and one column per quantity; builds as in `plot_ratios`; each point's resolution as
     a grey bar from the point up to |error| + resolution; the tolerance as a line."""
     runs = table[table.law.isin(GATED_LAWS)]
+    # The columns drawn alone: every selection below copies its rows, of every column it keeps.
+    drawn = ["build", "geometry", "criterion", "K",
+             *(f"{kind}_{q}" for q in GATED_QUANTITIES for kind in ("err", "resolution"))]
+    runs = runs[[c for c in drawn if c in runs.columns]]
     present = _builds(runs, builds)
     styles = build_styles(build_order(builds, table))
     fig, axes = plt.subplots(2, 3, figsize=(15, 7.5), sharex=True, squeeze=False)
@@ -144,7 +153,9 @@ def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -
     for ax in axes[-1]:
         ax.set_xlabel("K")
     _legend(axes[0][0], styles, present)
-    fig.tight_layout()
+    # Margins in inches, not tight_layout (records.files.set_margins), which measured every tick
+    # label of the six log panels: room for the titles above each row and the decades left of it.
+    set_margins(fig, left=0.6, right=0.15, top=0.35, bottom=0.5, wspace=0.18, hspace=0.14)
     save_figure(fig, path, dpi=110)
     plt.close(fig)
 

@@ -16,7 +16,7 @@ import pandas as pd  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from records.files import save_figure  # noqa: E402
+from records.files import save_figure, set_margins  # noqa: E402
 
 from verdict.gate import GATED_QUANTITIES  # noqa: E402
 
@@ -72,16 +72,21 @@ def plot_ladders(runs: pd.DataFrame, limits: pd.DataFrame, tolerance: dict, path
     colours = {b: plt.get_cmap("tab10")(k % 10) for k, b in enumerate(builds)}
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
     limit_of = {(r.ladder, r.criterion): r for r in limits.itertuples()}
-    for ax, q in zip(axes, GATED_QUANTITIES):
-        segments, colors = [], []
-        for (ladder, criterion), g in runs.groupby(["ladder", "criterion"], sort=False):
-            limit = limit_of.get((ladder, criterion))
-            if limit is None:
-                continue
+    # Each ladder's rungs, sorted by h once for the three panels, from the few columns drawn: sorting
+    # every group of the whole summary, once per panel, was half of a case report's seconds.
+    errors = [f"err_{q}" for q in GATED_QUANTITIES]
+    ladders = []
+    for (ladder, criterion), g in runs[["ladder", "criterion", "build", "h", *errors]].groupby(["ladder", "criterion"],
+                                                                                          sort=False):
+        limit = limit_of.get((ladder, criterion))
+        if limit is not None:
             g = g.sort_values("h")
-            dev = np.abs(g[f"err_{q}"].to_numpy(dtype=float) - getattr(limit, f"err_{q}")).clip(1e-14)
-            segments.append(np.column_stack([g.h.to_numpy(dtype=float), dev]))
-            colors.append(colours[g.build.iloc[0]])
+            ladders.append((limit, g.h.to_numpy(dtype=float), {c: g[c].to_numpy(dtype=float) for c in errors},
+                            colours[g.build.iloc[0]]))
+    for ax, q in zip(axes, GATED_QUANTITIES):
+        segments = [np.column_stack([h, np.abs(err[f"err_{q}"] - getattr(limit, f"err_{q}")).clip(1e-14)])
+                    for limit, h, err, _ in ladders]
+        colors = [colour for *_, colour in ladders]
         ax.add_collection(LineCollection(segments, colors=colors, linewidths=0.6, alpha=0.5))
         h = np.array([1 / 8000, 1 / 100])
         for p, ls in ((1, "--"), (2, "-.")):
@@ -102,7 +107,9 @@ def plot_ladders(runs: pd.DataFrame, limits: pd.DataFrame, tolerance: dict, path
     axes[0].legend(handles + own, builds + names, fontsize=7, loc="lower right")
     fig.suptitle("Every gated ladder: what the extrapolation removes from each rung (dissipative laws: slope 1; "
                  "elastic: slope 2)", fontsize=11)
-    fig.tight_layout()
+    # Margins in inches, not tight_layout (records.files.set_margins): its log panels' tick labels
+    # were measured one by one; room for the suptitle and titles above, dt / T_e below.
+    set_margins(fig, left=0.6, right=0.15, top=0.7, bottom=0.55, wspace=0.16)
     save_figure(fig, path, dpi=100)
     plt.close(fig)
 

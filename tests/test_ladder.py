@@ -236,3 +236,18 @@ def test_the_maps_own_record_in_physical_units_is_on_the_map(law, K):
         keyword = map_errors({**meta, "law": "default", "matched_restitution": r["eps_x0"], "represents": ["x0"]}, m,
                              len(t) - 1)
         assert abs(keyword["x0"]["T"]) > 1e-4
+
+
+def test_richardson_weights_cached_are_the_uncached_weights_bit_for_bit_and_a_copy():
+    """The cache (engines.ladder._richardson_weights) returns what the pseudo-inverse gives for the
+    same steps and powers, bit for bit; a caller that changes its array leaves the next caller's
+    weights alone. Three rungs eliminating dt^1 and dt^2 at h = 1, 1/2, 1/4: the closed form
+    w = (1/3, -2, 8/3) (Richardson's table), to 1e-12."""
+    h = np.array([1.0, 0.5, 0.25])
+    scale = h.max()
+    direct = np.linalg.pinv(np.column_stack([np.ones_like(h), h / scale, (h / scale) ** 2]))[0]
+    first = richardson_weights(h, (1.0, 2.0))
+    assert first.tobytes() == direct.tobytes()
+    np.testing.assert_allclose(first, [1 / 3, -2.0, 8 / 3], rtol=0, atol=1e-12)
+    first[:] = 0.0
+    assert richardson_weights(h, (1.0, 2.0)).tobytes() == direct.tobytes()
