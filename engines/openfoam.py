@@ -31,10 +31,9 @@ whole step, :493), once by the cloud's move-collide step. The case therefore inj
 step back, at x - v dt: the n-th time directory is then step n (time n dt), which `case_rows`
 checks on the first one; row 0 is the initial state (out of contact, F = 0).
 
-Cost: OpenFOAM writes a time folder of ~25 files per step (~0.17 MB): ~14 ms per step on this
-machine (2 shared cores, loaded), i.e. ~19 s for a run of 1 364 steps, most of it file-system
-time (the solver's own ExecutionTime is a quarter of it). Each case folder is removed once its
-dump is written.
+Cost: OpenFOAM writes a time folder of ~25 files per step (~0.17 MB): 2-3 ms of its own CPU per
+step, but 94 ms per step of wall time measured on this machine's 2 shared, loaded cores (load 11-13;
+tests/test_engine_openfoam.py, docs/engines.md). Each case folder is removed once its dump is written.
 """
 
 from __future__ import annotations
