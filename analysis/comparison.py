@@ -113,5 +113,7 @@ def comparison_rows(meta: dict, m: CollisionMetrics, reference_row: dict | None 
             row[f"series_err_{q}"] = paper[q] / ref[q] - 1.0 if ref[q] else math.nan
         if "matched_restitution" in meta:
             row["matched_restitution"] = meta["matched_restitution"]
+        if "told_input" in meta:  # a keyword told its own input (yade:betan's beta), not a restitution
+            row["told_input"] = meta["told_input"]
         rows.append(row)
     return rows

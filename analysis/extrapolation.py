@@ -53,7 +53,7 @@ def limit_derived() -> tuple[str, ...]:
 
 #: Columns a limit row takes from its finest rung unchanged (the run's description).
 _DESCRIPTION = ["case", "build", "engine", "engine_version", "law", "geometry", "criterion", "V", "K", "T_e", "A_e",
-                "Q1e", "Q2e", "ladder", "eps_ref", "matched_restitution"]
+                "Q1e", "Q2e", "ladder", "eps_ref", "matched_restitution", "told_input"]
 
 
 def extrapolated_rows(rows: pd.DataFrame) -> pd.DataFrame:

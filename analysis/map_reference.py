@@ -41,6 +41,8 @@ def map_law(meta: dict) -> tuple[float, float, bool]:
     if keyword is None:
         return float(meta["K"]), 0.5, meta["law"] == "viscoelastic_clipped"
     k = KEYWORDS[keyword]
+    if meta.get("told_input") is not None:  # told its own input directly (yade:betan's beta)
+        return k.b(float(meta["told_input"])), DAMPING_POWER[k.form], k.clipped
     return k.b(k.told_for(float(meta["matched_restitution"]))), DAMPING_POWER[k.form], k.clipped
 
 

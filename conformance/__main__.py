@@ -1,6 +1,6 @@
 """The conformance kit's command line (docs/conformance.md).
 
-    python -m conformance export CASE... [--law L]... [--keyword K] [--told E] [--K K...] --out DIR
+    python -m conformance export CASE... [--law L]... [--keyword K] [--told E | --beta B] [--K K...] --out DIR
     python -m conformance gate DIR [--columns FILE] [--no-plots]
 
 export: exit 0, or 2 when the case cannot be planned. gate: 0 PASS, 1 FAIL, 2 unusable input.
@@ -24,10 +24,12 @@ def parser() -> argparse.ArgumentParser:
     e.add_argument("cases", nargs="+", metavar="CASE", help="case files (cases/steel.yaml)")
     e.add_argument("--law", action="append", dest="laws", metavar="L",
                    help="a law of contact_model/laws.py (repeatable; default viscoelastic)")
-    e.add_argument("--keyword", metavar="K", help="an engine keyword told e (contact_model/keywords.py), e.g. "
+    e.add_argument("--keyword", metavar="K", help="an engine keyword told e or beta (contact_model/keywords.py), e.g. "
                                                   "liggghts:hertz-coefficientRestitution")
     e.add_argument("--told", type=float, metavar="E", help="the restitution a keyword is told (default: the "
                                                            "study's, the reference eps at default_law_match_K)")
+    e.add_argument("--beta", type=float, metavar="B", help="the damping ratio a keyword told one is given, as it "
+                                                           "stands (yade:betan; no restitution asked)")
     e.add_argument("--K", type=float, nargs="+", metavar="K",
                    help="the K grid for cases without impacts of their own (default: config K_grid)")
     e.add_argument("--out", required=True, metavar="DIR")
@@ -49,7 +51,8 @@ def main(argv=None) -> int:
             print("--law and --keyword exclude each other: a keyword is its own law", file=sys.stderr)
             return USAGE_ERROR
         try:
-            plan = export_plan(args.cases, args.laws or ["viscoelastic"], args.keyword, args.K, args.told)
+            plan = export_plan(args.cases, args.laws or ["viscoelastic"], args.keyword, args.K, args.told,
+                               beta=args.beta)
         except (ExportError, CaseError, ValueError) as err:
             print(f"cannot export: {err}", file=sys.stderr)
             return USAGE_ERROR

@@ -26,7 +26,7 @@ import yaml
 
 from contact_model import LAW_REGISTRY, load_case
 from contact_model.keywords import KEYWORDS
-from engines.codes import CODES, law_unavailable
+from engines.codes import CODES, KIT_CODES, law_unavailable
 from engines.plan import plan_listing, plan_runs
 from engines.run_spec import GAP_STEPS, RunSpec
 from records.dump_file import COLUMNS, FORMAT_VERSION
@@ -54,18 +54,34 @@ def study_settings(config_path=CONFIG) -> dict:
     return {k: config[k] for k in keys}
 
 
-def carrier_for(laws: list[str], keyword: str | None) -> tuple[str, list[str]]:
+#: What a keyword may be told in a plan (`Keyword.told`): a restitution e (--told, or the study's), or
+#: its own damping ratio beta, given as it stands (--beta: yade:betan, PFC's dp_nratio where it maps to it).
+#: Not eta: a dashpot's eta_n is the study's own translation of e at each velocity, no input of a user's.
+EXPORTABLE_TOLD = ("e", "beta")
+
+
+def carrier_for(laws: list[str], keyword: str | None, beta: float | None = None) -> tuple[str, list[str]]:
     """(the code that carries the plan, the laws to plan): for a keyword its code and the law that runs it
     there ('default' for the code's own keyword, else the keyword's law); else the first code of
-    `engines.codes` that expresses every law of `laws`."""
+    `engines.codes` that expresses every law of `laws`. A keyword told a damping ratio needs `beta`, one told
+    e refuses it."""
+    if keyword is None and beta is not None:
+        raise ExportError("--beta is the damping ratio of a keyword told one (--keyword yade:betan)")
     if keyword is not None:
         if keyword not in KEYWORDS:
             raise ExportError(f"unknown keyword {keyword!r}; known: {', '.join(KEYWORDS)}")
         k = KEYWORDS[keyword]
-        if k.told != "e":
-            raise ExportError(f"keyword {keyword!r} is told {k.told}, not a restitution e: the kit exports keywords "
-                              "told e (" + ", ".join(n for n, kw in KEYWORDS.items() if kw.told == "e") + ")")
-        if CODES[k.code].keyword == keyword:
+        exportable = ", ".join(f"{n} (told {kw.told})" for n, kw in KEYWORDS.items() if kw.told in EXPORTABLE_TOLD)
+        if k.told not in EXPORTABLE_TOLD:
+            raise ExportError(f"keyword {keyword!r} is told {k.told}, which the study computes itself from a "
+                              f"restitution at each velocity: it cannot be exported; the kit exports {exportable}")
+        if k.told == "beta" and beta is None:
+            raise ExportError(f"keyword {keyword!r} is told a damping ratio beta, not a restitution: give it with "
+                              "--beta B")
+        if k.told == "e" and beta is not None:
+            raise ExportError(f"keyword {keyword!r} is told a restitution e (--told), not a damping ratio: "
+                              "--beta is for keywords told beta")
+        if k.code in KIT_CODES or CODES[k.code].keyword == keyword:  # a code's own keyword: its law `default`
             return k.code, ["default"]
         law = next((n for n, entry in LAW_REGISTRY.items() if entry.keyword == keyword), None)
         if law is None:
@@ -130,6 +146,8 @@ def run_entry(spec: RunSpec, rung: int) -> dict:
         "name": spec.name, "ladder": spec.ladder, "rung": rung, "case": spec.case, "build": spec.build,
         "carrier_code": spec.engine, "law": spec.law, "keyword": spec.keyword, "geometry": pair.geometry,
         "represents": list(spec.represents), "told_e": spec.matched_restitution,
+        # a keyword told its own damping ratio (yade:betan, --beta): beta as given [-], no restitution asked
+        "told_beta": spec.told_input,
         "body_1": _body(pair.body_1), "body_2": _body(pair.body_2),
         "effective": {"E_star_Pa": pair.E, "R_star_m": pair.R, "M_star_kg": pair.M}, "eta_Pa_s": pair.eta,
         "law_equation": law_equation(spec),
@@ -149,19 +167,23 @@ def plan_id(plan: dict) -> str:
 
 
 def export_plan(case_paths, laws=("viscoelastic",), keyword: str | None = None, K_grid=None,
-                told: float | None = None, settings: dict | None = None) -> dict:
-    """The plan of `case_paths` for one pseudo build (`BUILD`): the study's `plan_runs` and `plan_listing`."""
+                told: float | None = None, settings: dict | None = None, beta: float | None = None) -> dict:
+    """The plan of `case_paths` for one pseudo build (`BUILD`): the study's `plan_runs` and `plan_listing`.
+    `told`: the restitution a keyword told e is asked for; `beta`: the damping ratio a keyword told beta
+    is given (yade:betan), as it stands."""
     settings = dict(settings or study_settings())
     if K_grid:
         settings["K_grid"] = [float(k) for k in K_grid]
-    code, planned_laws = carrier_for(list(laws), keyword)
+    if told is not None and beta is not None:
+        raise ExportError("--told (a restitution) and --beta (a damping ratio) exclude each other")
+    code, planned_laws = carrier_for(list(laws), keyword, beta)
     build = {"id": BUILD, "code": code}
     runs, skipped, not_available, notes, cases = [], [], [], [], []
     for path in case_paths:
         case = load_case(path)
         plan = plan_runs(case, [build], planned_laws, settings["K_grid"], settings["time_step_factor"],
                          settings["default_law_match_K"], settings["max_overlap_ratio"], ladder=settings["ladder"],
-                         told=told)
+                         told=told, told_input=beta)
         listing = plan_listing(case, plan)
         cases.append({"case": case.name, "file": str(path), "case_sha256": listing["case_sha256"]})
         rungs: dict[str, int] = {}
@@ -175,7 +197,8 @@ def export_plan(case_paths, laws=("viscoelastic",), keyword: str | None = None, 
         raise ExportError("nothing to run: " + "; ".join(n["reason"] for n in not_available))
     plan = {"format": PLAN_FORMAT, "version": PLAN_VERSION, "dump_format": f"hertz-dem-dump: {FORMAT_VERSION}",
             "dump_columns": list(COLUMNS), "build": BUILD, "carrier_code": code, "laws": planned_laws,
-            "keyword": keyword, "settings": settings, "tolerance": settings["tolerance"], "cases": cases,
+            "keyword": keyword, "told_beta": beta, "settings": settings, "tolerance": settings["tolerance"],
+            "cases": cases,
             "runs": runs, "not_run": skipped, "not_available": not_available, "notes": notes}
     plan["plan_id"] = plan_id(plan)
     return plan
@@ -187,6 +210,7 @@ CSV_COLUMNS = [
     ("case", lambda r: r["case"]), ("law", lambda r: r["law"]), ("keyword", lambda r: r["keyword"] or ""),
     ("geometry", lambda r: r["geometry"]), ("criteria", lambda r: " ".join(r["represents"])),
     ("told_e", lambda r: "" if r["told_e"] is None else r["told_e"]),
+    ("told_beta", lambda r: "" if r.get("told_beta") is None else r["told_beta"]),
     ("R1_m", lambda r: r["body_1"]["radius_m"]), ("rho1_kg_m3", lambda r: r["body_1"]["density_kg_m3"]),
     ("m1_kg", lambda r: r["body_1"]["mass_kg"]), ("E1_Pa", lambda r: r["body_1"]["young_Pa"]),
     ("nu1", lambda r: r["body_1"]["poisson"]),
@@ -228,6 +252,8 @@ def readme(plan: dict) -> str:
         r = next(x for x in runs if x["ladder"] == ladder)
         eq = r["law_equation"]
         told = f", told e = {r['told_e']:.6g}" if r["told_e"] is not None else ""
+        if r.get("told_beta") is not None:
+            told = f", told beta = {r['told_beta']:.6g} (`told_beta`, a damping ratio: no restitution asked)"
         law_lines.append(f"- `{ladder}`: {r['geometry']}, V = {r['impact_velocity_m_s']:.9g} m/s, K = {r['K']:.6g}"
                          f"{told}; {eq['equation']} with k_n = {eq['k_n_N_per_m1.5']:.9g} N/m^1.5"
                          + (f", g = {eq['damping_coefficient_SI']:.9g} {eq['damping_coefficient_unit']}"
@@ -251,7 +277,8 @@ def readme(plan: dict) -> str:
         "Start at t = 0 from `initial` (x1, v1, x2, v2), with the time step `dt_s`, for `steps` steps. The "
         "bodies touch half a step after sample 20 (`contact_starts_s`): do not move them, do not change dt. "
         "Give your code the material (radius, density, E, nu of each body, or E* directly) and the law's "
-        "coefficients (k_n, g, or for a keyword the e it is told, `told_e`) in its own words.", "",
+        "coefficients (k_n, g, or for a keyword the e it is told, `told_e`, or the damping ratio it is told, "
+        "`told_beta`) in its own words.", "",
         "## What to record", "",
         f"One sample per step, from step 0 to step `steps` (`samples` rows): {', '.join(RECORD)} in "
         "SI (s, m, m/s, N): overlap negative before contact (minus the gap), normal_velocity = d(delta)/dt "

@@ -34,7 +34,7 @@ from records.files import file_sha256, write_atomically
 from .dumps import MAGIC, Refusal, load_column_map, read_mapped_csv, read_study_dump
 from .export import PLAN_FORMAT, plan_id
 from .study import (ReportInputs, comparison_rows, extrapolated_rows, gate_checks, map_errors, tolerance_problems,
-                    verdict_of, write_report, write_report_without_plots, write_verdict_files)
+                    verdict_of, write_report, write_verdict_files)
 
 #: What a refused gate removes from DIR: a verdict of earlier dumps must not stand beside these.
 VERDICT_FILES = ("verdict.json", "junit.xml", "checks.csv", "report.md", "report.html", "summary.csv")
@@ -79,7 +79,8 @@ def spec_of(run: dict) -> RunSpec:
     pair = ContactPair(run["geometry"], body(run["body_1"]), body(run["body_2"]), run["effective"]["E_star_Pa"],
                        run["eta_Pa_s"])
     spec = RunSpec(run["case"], run["carrier_code"], run["law"], pair, run["impact_velocity_m_s"],
-                   run["time_step_factor"], matched_restitution=run["told_e"], reference=run["reference"],
+                   run["time_step_factor"], matched_restitution=run["told_e"], told_input=run.get("told_beta"),
+                   reference=run["reference"],
                    build=run["build"])
     if spec.name != run["name"] or not math.isclose(spec.time_step, run["dt_s"], rel_tol=1e-12):
         raise Refusal(f"plan.json: run {run['name']!r} is not what this study's planner makes of it "
@@ -184,7 +185,7 @@ def gate(folder, columns_file=None, log=print, plots: bool = True) -> Outcome:
                               title=f"Conformance of {plan['build']}: {', '.join(plan['laws'])}, "
                                     f"cases {', '.join(c['case'] for c in plan['cases'])}",
                               folder=folder.as_posix())
-        (write_report if plots else write_report_without_plots)(inputs, folder)
+        write_report(inputs, folder, plots=plots)  # plots False (gate --no-plots): the figures left undrawn
 
     write_verdict_files(checks, verdict, {"checks": folder / "checks.csv", "junit": folder / "junit.xml",
                                           "verdict": folder / "verdict.json"}, report=report)

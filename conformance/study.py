@@ -16,10 +16,5 @@ from report.report import ReportInputs, write_report
 from verdict.verdict_files import tolerance_problems
 
 
-def write_report_without_plots(inputs, out_dir) -> None:
-    """`write_report` with its figures left undrawn: `gate --no-plots` (CI, tests)."""
-    write_report(inputs, out_dir, plots=False)
-
 __all__ = ["ReportInputs", "check_name", "comparison_rows", "extrapolated_rows", "gate_checks", "map_errors",
-           "tolerance_problems", "verdict_of", "write_report", "write_report_without_plots",
-           "write_verdict_files"]
+           "tolerance_problems", "verdict_of", "write_report", "write_verdict_files"]

@@ -468,6 +468,18 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
             "WallSpringSliderDashpot.C:91-99 @v1912 (eta_N = alpha sqrt(M* k_N) delta^(1/4), no clip); told "
             "alpha(e) = sqrt(5) |beta(e)|, the alpha whose own equation restitutes e (openfoam_alpha)",
             accepts=(-math.inf, math.inf), from_restitution=openfoam_alpha),
+    # A code the study runs no engine of (engines.codes.KIT_CODES): the conformance kit exports its plans for
+    # a user to run in their own build; the study never plans it (no build of config `builds:` can name it).
+    Keyword("chrono:smc_hertz", "chrono",
+            "ChSystemSMC with SetContactForceModel(Hertz) and UseMaterialProperties(true) (the defaults), "
+            "ChContactMaterialSMC::SetRestitution(e)", "quarter", True, "e", lambda e: 2.5 * log_beta(e),
+            "not run by the study (the conformance kit exports it)",
+            "src/chrono/physics/ChContactSMC.cpp:94-104 (S_n = 2 E* sqrt(R* delta), k_n = (2/3) S_n, "
+            "beta = ln e / sqrt(ln^2 e + pi^2), g_n = -2 sqrt(5/6) beta sqrt(S_n m*)), "
+            ":170 (F_n = k_n delta - g_n v_n), "
+            ":175-178 (the clip), src/chrono/physics/ChSystemSMC.cpp:35-36 (the defaults) @7689fbc0 (18 Aug 2026); "
+            "e and E* are stored as float (ChContactMaterialSMC.h:108), a relative 6e-8 off the double the plan "
+            "gives"),
 )}
 
 
@@ -546,10 +558,11 @@ def missing_in(keyword: str, banner: str) -> str | None:
     return f"{k.written.split(' + ')[-1]} came in the release of {d} {MONTHS[m - 1]} {y}; this build is {banner}"
 
 
-def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
+def keyword_reference(keyword: str, told: float, K: float = 0.0, direct: bool = False) -> dict:
     """The reference row of a run of `keyword` asked for restitution `told`.
 
-    Its code is given `Keyword.told_for(told)`; `reference.quarter_power_damping`'s characteristics
+    Its code is given `Keyword.told_for(told)` (`direct`: `told` itself, the code's own input, e.g.
+    yade:betan's beta given by the user); `reference.quarter_power_damping`'s characteristics
     of its own equation, in the fields of a `reference.CollisionTable` row, with the run's
     viscoelastic K (its name and plots place it by it), the keyword's b, and tau_return: where the
     overlap of a clipped run returns to zero in free flight after the force vanished
@@ -563,6 +576,8 @@ def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
         The requested restitution coefficient (or the dimensionless c of a 'velocity' keyword) [-].
     K : float
         The run's viscoelastic dissipation parameter [-].
+    direct : bool
+        Whether `told` is what the code is told in its own input (`Keyword.told`), not a restitution.
 
     Returns
     -------
@@ -570,28 +585,29 @@ def keyword_reference(keyword: str, told: float, K: float = 0.0) -> dict:
         The row, in the reference's units (lengths of delta_e, times of delta_e/V; eps, b and K
         [-]).
     """
-    return {**_own_row(keyword, float(told)), "K": float(K)}
+    return {**_own_row(keyword, float(told), direct), "K": float(K)}
 
 
 @functools.lru_cache(maxsize=256)
-def _own_row(keyword: str, told: float) -> dict:
+def _own_row(keyword: str, told: float, direct: bool = False) -> dict:
     """`keyword_reference` without K, once per (keyword, told): a plan asks for it at every
     velocity, and a dashpot's c is a root-find of ~50 solves."""
     from reference.quarter_power_damping import solve_quarter_power
 
     k = KEYWORDS[keyword]
+    coefficient = k.b(told if direct else k.told_for(told))
     if k.form == "velocity":  # the tail kept: the run ends with the overlap's return (x0)
         from reference.linear_damping import solve_linear_damping
 
-        row = solve_linear_damping(k.b(k.told_for(told)))
+        row = solve_linear_damping(coefficient)
         return {**row, "b": row["c"], "tau_return": row["tau_0"]}
     if k.form == "half":  # Brilliantov's law at its K; clipped, it lets go at x = (4/5) K eps_F0
         from reference import solve_collision
 
-        K = k.b(k.told_for(told))
+        K = coefficient
         row = {**solve_collision(K), "b": K}
         return {**row, "tau_return": row["tau_f"] + 0.8 * K if k.clipped else row["tau_0"]}
-    row = solve_quarter_power(k.b(k.told_for(told)))
+    row = solve_quarter_power(coefficient)
     x_f = (0.8 * row["b"] * row["eps_F0"]) ** 0.8
     return {**row, "tau_return": row["tau_f"] + (x_f / row["eps_F0"] if row["eps_F0"] > 0 else 0.0)}
 

@@ -328,6 +328,14 @@ def integrators(codes) -> str:
     return " and ".join([", ".join(parts[:-1]), parts[-1]]) if len(parts) > 1 else "".join(parts)
 
 
+#: {code: its keyword} of the codes the study runs no engine of but whose out-of-the-box keyword is in
+#: `contact_model.keywords.KEYWORDS` (Chrono's ChSystemSMC Hertz): the conformance kit exports their
+#: plans (law ``default``, carried by the code itself: `keyword_of`), a user runs them in their own
+#: build. They are no `CODES`: no build of config `builds:` names them (`code` refuses them), so the
+#: study never plans them.
+KIT_CODES: dict[str, str] = {k.code: name for name, k in KEYWORDS.items() if k.code not in CODES}
+
+
 def code(name: str) -> EngineCode:
     """The code called `name`; ValueError naming the known ones otherwise."""
     try:
@@ -342,7 +350,7 @@ def keyword_of(law_name: str, code_name: str) -> str | None:
     model's laws."""
     entry = law(law_name)
     if entry.name == "default":
-        return code(code_name).keyword
+        return KIT_CODES[code_name] if code_name in KIT_CODES else code(code_name).keyword
     return entry.keyword
 
 
@@ -350,6 +358,10 @@ def law_unavailable(code_name: str, law_name: str) -> str | None:
     """Why law `law_name` cannot run in code `code_name`, or None when it can: the code's own
     reasons (`EngineCode.unavailable`), or a keyword law of another code's keyword."""
     entry = law(law_name)
+    if code_name in KIT_CODES:  # a code of the kit alone: its out-of-the-box keyword is all the study knows of it
+        return None if entry.name == "default" else (
+            f"{code_name} is a code the study runs no engine of: the conformance kit knows its keyword "
+            f"{KIT_CODES[code_name]} alone (law default)")
     if entry.keyword is not None and KEYWORDS[entry.keyword].code != code_name:
         k = KEYWORDS[entry.keyword]
         return f"a keyword of {code(k.code).title} alone ({k.written})"

@@ -373,7 +373,8 @@ def case_rows(run: FoamRun, case: Path) -> list[tuple]:
 
 def foam_run(spec: RunSpec) -> FoamRun:
     """The `FoamRun` of a study run: its initial state (`RunSpec.initial_state`), E*, and alpha = 0
-    (``elastic``) or the keyword's alpha(e) for the restitution it is told (``default``).
+    (``elastic``) or the keyword's alpha(e) for the restitution it is told (``default``; an alpha
+    given directly, `RunSpec.told_input`, as it stands).
 
     Raises
     ------
@@ -386,7 +387,12 @@ def foam_run(spec: RunSpec) -> FoamRun:
     from contact_model.keywords import KEYWORDS
 
     s = spec.initial_state()
-    alpha = 0.0 if spec.law == "elastic" else KEYWORDS[KEYWORD].told_for(spec.matched_restitution)
+    if spec.law == "elastic":
+        alpha = 0.0
+    elif spec.told_input is not None:  # alpha given as it stands (RunSpec.told_input), no restitution asked
+        alpha = spec.told_input
+    else:
+        alpha = KEYWORDS[KEYWORD].told_for(spec.matched_restitution)
     return FoamRun(name=spec.name, dt=s["dt"], steps=int(s["steps"]), plane=spec.pair.body_2.is_plane,
                    R1=s["R1"], rho1=s["rho1"], x1=s["x1"], v1=s["v1"], R2=s.get("R2", math.nan),
                    rho2=s.get("rho2", math.nan), x2=s.get("x2", 0.0), v2=s.get("v2", 0.0),

@@ -220,13 +220,15 @@ def keyword_refusal(keyword: str, e: float) -> str:
 
 
 def keyword_ladder(case_name: str, engine: str, law: str, keyword: str, pair, velocity: float, e: float, K: float,
-                   ladder: dict | None = None, build: str = "") -> list[RunSpec]:
+                   ladder: dict | None = None, build: str = "", direct: bool = False) -> list[RunSpec]:
     """The ladder of a run of `law`, `engine`'s keyword `keyword` asked for restitution `e` at
     `velocity` (K: the pair's there, which names and places the run): its reference row is the
     keyword's own equation (`keyword_reference`), its time steps `ladder_factors` (refined by its
-    own K where its force is Brilliantov's, `keyword_own_K`)."""
-    row = keyword_reference(keyword, e, K)
-    return [RunSpec(case_name, engine, law, pair, velocity, f, matched_restitution=e, reference=row, build=build)
+    own K where its force is Brilliantov's, `keyword_own_K`). `direct`: `e` is no restitution but
+    the code's own input (`RunSpec.told_input`, yade:betan's beta)."""
+    row = keyword_reference(keyword, e, K, direct=direct)
+    told = {"told_input": e} if direct else {"matched_restitution": e}
+    return [RunSpec(case_name, engine, law, pair, velocity, f, reference=row, build=build, **told)
             for f in ladder_factors(ladder or DEFAULT_LADDER, law, row["K"], keyword_own_K(keyword, row))]
 
 
@@ -259,13 +261,15 @@ class Plan:
 def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3, 0.5),
               time_step_factor: float = 1000.0, match_K: float = 0.1,
               max_overlap_ratio: float = 0.5, roundoff_limit: float = ROUNDOFF_LIMIT,
-              ladder: dict | None = None, told: float | None = None) -> Plan:
+              ladder: dict | None = None, told: float | None = None, told_input: float | None = None) -> Plan:
     """Every run of `case` for the given engine builds (see `build_codes`) and laws, in a
     stable order: every build runs the same pairs, velocities, laws and time steps. A gated law
     runs a ladder of time steps (`ladder`, default DEFAULT_LADDER; `ladder_factors`); a keyword
     law is told the restitution `told`, else the reference's at match_K (`told_restitution`).
     A told restitution the keyword's code refuses (`Keyword.refuses`: LIGGGHTS wants e > 0.05)
-    is not run there, listed in `Plan.not_available` with the reason.
+    is not run there, listed in `Plan.not_available` with the reason. `told_input`: a keyword law is
+    told that value in its code's own input instead (`Keyword.told`: yade:betan's beta; the
+    conformance kit's --beta), with no restitution asked.
 
     A case with restitutions (`impact: restitution`) is planned once per restitution
     (`contact_model.case_file.restitution_variants`) at each impact velocity: its contacts' eta
@@ -333,14 +337,18 @@ def plan_runs(case: Case, engines, laws=LAWS, K_grid=(0.01, 0.03, 0.1, 0.2, 0.3,
                     e = None
                     if keyword is not None:  # the engine's keyword, against its own equation
                         e = told if told is not None else told_restitution(keyword, match_K)
-                        refused = keyword_refusal(keyword, e)
+                        what = "e"
+                        if told_input is not None:  # its own input, as the user gives it (no restitution)
+                            e, what = told_input, KEYWORDS[keyword].told
+                        refused = (KEYWORDS[keyword].refuses(e) if told_input is not None
+                                   else keyword_refusal(keyword, e))
                         if refused:
                             plan.not_available.append({
                                 "build": build, "engine": engine, "law": law, "geometry": pair.geometry,
-                                "reason": f"told e = {e:.6g} at V = {v:.6g} m/s: {refused}"})
+                                "reason": f"told {what} = {e:.6g} at V = {v:.6g} m/s: {refused}"})
                             continue
                         plan.runs += keyword_ladder(case.name, engine, law, keyword, pair, v, e, row["K"], ladder,
-                                                    build)
+                                                    build, direct=told_input is not None)
                         continue
                     plan.runs += [RunSpec(case.name, engine, law, pair, v, f, reference=row, build=build)
                                   for f in ladder_factors(ladder, law, row["K"])]

@@ -38,7 +38,7 @@ from contact_model.keywords import KEYWORDS
 from contact_model.laws import LAW_REGISTRY
 from reference import HERTZ_TAU, solve_collision
 
-from .codes import CODES, keyword_of
+from .codes import CODES, KIT_CODES, keyword_of
 from .ladder import START_PHASE, aligned_time_step
 
 # The laws and criteria (LAWS, GATED_LAWS, LAW_CRITERIA) are the model's: contact_model.laws.
@@ -78,11 +78,15 @@ class RunSpec:
     #: False: dt is exactly T_e / time_step_factor, not moved to align the contact's end (a
     #: production step, as a user runs it).
     aligned: bool = True
+    #: For a keyword told its own input directly (`Keyword.told`: yade:betan's beta, the conformance
+    #: kit's --beta), in place of a restitution the study asks for: that value, given to the code as it
+    #: stands. No restitution is asked (`matched_restitution` None), so the run has no promise.
+    told_input: float | None = None
 
     def __post_init__(self):
         if not self.build:
             object.__setattr__(self, "build", self.engine)
-        if self.engine not in ENGINES:
+        if self.engine not in ENGINES and self.engine not in KIT_CODES:  # KIT_CODES: the kit's plans alone
             raise ValueError(f"unknown engine {self.engine!r}; known: {ENGINES}")
         if self.law not in LAWS:
             raise ValueError(f"unknown contact law {self.law!r}; known: {LAWS}")
@@ -90,8 +94,10 @@ class RunSpec:
             raise ValueError(f"impact velocity must be positive, got {self.velocity}")
         if self.law == "elastic" and self.pair.eta != 0:
             object.__setattr__(self, "pair", replace(self.pair, eta=0.0))  # Hertz alone
-        if self.keyword is not None and self.matched_restitution is None:
+        if self.keyword is not None and self.matched_restitution is None and self.told_input is None:
             raise ValueError(f"law {self.law!r} (a keyword) needs the restitution coefficient it is told")
+        if self.told_input is not None and self.matched_restitution is not None:
+            raise ValueError(f"law {self.law!r}: told either a restitution or its own input, not both")
 
     @property
     def keyword(self) -> str | None:
@@ -180,6 +186,8 @@ class RunSpec:
             name += f"-phase{self.start_phase:.4f}" + ("" if self.aligned else "-unaligned")
         if self.matched_restitution is not None:
             name += f"-e{self.matched_restitution:.6f}"
+        if self.told_input is not None:  # e.g. -beta0.100000: what the code was told, by its own name
+            name += f"-{KEYWORDS[self.keyword].told}{self.told_input:.6f}"
         return f"{name}-{self.label}" if self.label else name
 
     def initial_gap(self) -> float:
@@ -259,4 +267,6 @@ class RunSpec:
         }
         if self.matched_restitution is not None:
             meta["matched_restitution"] = self.matched_restitution
+        if self.told_input is not None:
+            meta["told_input"] = self.told_input
         return meta

@@ -44,7 +44,8 @@ def job_entry(spec: RunSpec, out: Path) -> dict:
         entry["en"], entry["vn"] = spec.matched_restitution, spec.velocity
     elif spec.keyword == "yade:betan":
         # The damping ratio itself: the one its en would compute (contact_model.keywords).
-        entry["betan"] = KEYWORDS[spec.keyword].told_for(spec.matched_restitution)
+        entry["betan"] = (spec.told_input if spec.told_input is not None
+                          else KEYWORDS[spec.keyword].told_for(spec.matched_restitution))
     return entry
 
 

@@ -66,9 +66,11 @@ def _material(body, which: str) -> tuple[float, float]:
     return body.young, body.poisson
 
 
-def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None) -> dict:
+def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None, wall_hertzian: bool = True) -> dict:
     """The numbers of one oblique run for the deck (SI); `stiffness_scale` (a check's knob, not a
-    study run's): YADE's tangential stiffness k_so multiplied by it."""
+    study run's): YADE's tangential stiffness k_so multiplied by it; `wall_hertzian` False (a check's
+    knob too): YADE's default wall, Ig2_Wall_Sphere_ScGeom(hertzian=False), whose radius is the
+    sphere's, R* = R/2 (the study's runs: True, R* = R)."""
     run = spec.run
     normal = run.normal
     p = normal.pair
@@ -83,6 +85,8 @@ def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None) -> di
              **run.initial_positions(), "M": p.M}
     if stiffness_scale is not None:
         entry["kso_scale"] = stiffness_scale
+    if not wall_hertzian:
+        entry["wall_hertzian"] = False
     return entry
 
 
@@ -113,7 +117,8 @@ def _oblique_dump(engine, spec: _Run, entry, st, raw: Path, workdir: Path, log, 
 
 
 def run_yade_oblique(runs: list[ObliqueRun], workdir, executable: str = EXECUTABLE,
-                     timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, stiffness_scale: float | None = None) -> Sweep:
+                     timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S, stiffness_scale: float | None = None,
+                     wall_hertzian: bool = True) -> Sweep:
     """Run every oblique run in one YADE process; write `workdir/<run.name>.csv` (8 columns) for each.
 
     Raises EngineMissing if YADE is not installed, ValueError for a run YADE's deck cannot express
@@ -122,11 +127,13 @@ def run_yade_oblique(runs: list[ObliqueRun], workdir, executable: str = EXECUTAB
     stops fails the run in progress as `engines.yade.run_yade` does. `stiffness_scale` (for the checks
     that the deck's stiffness reaches the result): every run's k_so times it, the contact created before
     the bodies touch so that it holds from the first step (None: YADE's own, the contact created by
-    the collider).
+    the collider). `wall_hertzian` False (the check of YADE's default wall, R* = R/2): the plane's
+    Ig2_Wall_Sphere_ScGeom without hertzian=True (pkg/dem/Ig2_Facet_Sphere_ScGeom.hpp:103).
     """
     exe = require_executable("yade", executable)
     specs = [_Run(r) for r in runs]
-    files = prepare_sweep("yade", specs, workdir, partial(job_entry, stiffness_scale=stiffness_scale))
+    files = prepare_sweep("yade", specs, workdir, partial(job_entry, stiffness_scale=stiffness_scale,
+                                                                     wall_hertzian=wall_hertzian))
     cmd = [exe, "-n", "-x", str(DRIVER), f"job={files.job}"]
     limit = time_limit("yade", specs, timeout_floor_s)
     done = run_logged(cmd, files.log, limit, cwd=files.workdir, env={"PYTHONUNBUFFERED": "1"})

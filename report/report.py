@@ -286,11 +286,12 @@ def _physical_section(limits: pd.DataFrame, builds=None) -> list[str]:
             row = {"law": law + (f" `{name}`" if name else ""),
                    "builds": f"all {len(everyone)}" if every else ", ".join(members),
                    "criterion": criterion, "V [m/s]": f"{V:.6g}",
-                   "coefficient": _coefficient(name, float(r.matched_restitution) if name else math.nan, K)}
+                   "coefficient": _coefficient(name, _told_of(r)[0] if name else math.nan, K,
+                                               direct=bool(name) and _told_of(r)[1])}
             for q in PHYSICAL:
                 worst = s[f"err_{q}"].abs().max() if f"err_{q}" in s else float("nan")
                 row[q] = readable(q, float(r[f"{q}_ref"])) + (f" (±{worst:.0e})" if pd.notna(worst) else "")
-            row["asked"] = _asked(name, float(r.matched_restitution), float(r.eps_ref)) if name else "-"
+            row["asked"] = _asked(name, _told_of(r)[0], float(r.eps_ref), direct=_told_of(r)[1]) if name else "-"
             sort = (LAWS.index(law) if law in LAWS else len(LAWS), min(order.index(b) for b in members),
                     CRITERIA.index(criterion) if criterion in CRITERIA else len(CRITERIA), V, K)
             rows.append((sort, row))
@@ -310,20 +311,34 @@ def _physical_section(limits: pd.DataFrame, builds=None) -> list[str]:
     return lines
 
 
-def _coefficient(keyword: str, told: float, K: float) -> str:
+def _told_of(row) -> tuple[float, bool]:
+    """(what a keyword's summary row was told, whether that is its code's own input): the restitution
+    e it was asked for, or its own input given directly (`told_input`: yade:betan's beta, the
+    conformance kit's --beta); (nan, False) for neither."""
+    direct = row.get("told_input") if hasattr(row, "get") else getattr(row, "told_input", None)
+    if direct is not None and pd.notna(direct):
+        return float(direct), True
+    e = row.get("matched_restitution") if hasattr(row, "get") else getattr(row, "matched_restitution", None)
+    return (float(e), False) if e is not None and pd.notna(e) else (math.nan, False)
+
+
+def _coefficient(keyword: str, told: float, K: float, direct: bool = False) -> str:
     """The coefficient of a physical-results row's equation: the viscoelastic K of a model law's
-    row, the b (c; K of a Brilliantov keyword) a keyword's code computes from what it was told."""
+    row, the b (c; K of a Brilliantov keyword) a keyword's code computes from what it was told
+    (`direct`: told its own input, not a restitution)."""
     if not keyword:
         return f"K = {K:.4g}"
     k = KEYWORDS[keyword]
-    return f"{k.damping_form.symbol} = {k.b(k.told_for(told)):.4g}"
+    return f"{k.damping_form.symbol} = {k.b(told if direct else k.told_for(told)):.4g}"
 
 
-def _asked(keyword: str, told: float, eps: float) -> str:
+def _asked(keyword: str, told: float, eps: float, direct: bool = False) -> str:
     """What a keyword's row was asked for, and that the gate checks its own equation: the e it was
     told (as a damping ratio or a dashpot's eta_n where the code takes that), and how far its
-    equation's eps is from e (its promise)."""
+    equation's eps is from e (its promise); `direct`: its own input, given as it stands (no promise)."""
     k = KEYWORDS[keyword]
+    if direct:
+        return f"{k.told} = {told:.6g}, given as it stands (no restitution asked); gated against its own equation"
     how = {"beta": f" as betan = {k.told_for(told):.6g} (Thornton's beta of e)",
            "eta": " as the eta_n restituting it at this V (x0)"}.get(k.told, "")
     promise = "" if k.told == "eta" else f"; its equation's eps - e = {eps - told:+.2e}"
@@ -335,8 +350,14 @@ def _keyword_finding(build: str, limits: pd.DataFrame) -> str:
     equation restitutes when told e (its promise; contact_model.keywords), and its known defect."""
     engine = limits.engine.iloc[0]
     keyword = KEYWORDS[keyword_of(limits.law.iloc[0], engine)]
-    told = float(limits.matched_restitution.dropna().iloc[0]) if limits.matched_restitution.notna().any() else math.nan
     worst = float(limits[[f"err_{q}" for q in GATED_QUANTITIES]].abs().max().max())
+    told, direct = _told_of(limits.iloc[0])
+    if direct:  # told its own input (the conformance kit's --beta): no restitution asked, no promise
+        form = keyword.damping_form
+        return (f"{build}'s {keyword.written} computes its own equation, {form.equation()} ({form.symbol} = "
+                f"{keyword.b(told):.6g} told {keyword.told} = {told:.6g} as it stands"
+                f"{', the force clipped' if keyword.clipped else ''}), to {worst:.1e} at dt -> 0.")
+    told = float(limits.matched_restitution.dropna().iloc[0]) if limits.matched_restitution.notna().any() else math.nan
     own = promised_restitution(keyword.name, told) if math.isfinite(told) else math.nan
     if keyword.form == "velocity":  # a dashpot told the eta_n of e by the study: no promise of its own
         c = keyword.b(keyword.told_for(told))
@@ -394,8 +415,9 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1, plots: b
     figures_drawn = start_drawing(figures if plots else [], workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
     # What the study supplies of a law in each build's release, marked at the cells.
-    supplied = ({b: CODES[e].supplied_in(v) for (b, e), v in table.groupby(["build", "engine"], sort=False)
-                 .engine_version.first().items()} if has_rows else {})
+    # A code of the conformance kit alone (engines.codes.KIT_CODES) has no engine of the study: nothing supplied.
+    supplied = ({b: CODES[e].supplied_in(v) if e in CODES else {} for (b, e), v in
+                 table.groupby(["build", "engine"], sort=False).engine_version.first().items()} if has_rows else {})
     html_blocks = {MATRIX: (matrix_markdown(cells, tolerance, code_notes, supplied), matrix_html(cells, supplied))}
 
     lines = [
@@ -454,8 +476,12 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1, plots: b
                       "removes (`rungs_T`, `rungs_A`, `rungs_eps` of the ladder's limit row in summary.csv).", "",
                       "![ladders](plots/ladders.png)", ""]
     lines += map_section(ladder_runs, builds)
-    if has_rows and table.law.isin(KEYWORD_LAWS).any():
-        lines += _keyword_section(table[table.law.isin(KEYWORD_LAWS)], builds, references["model_restitution"])
+    # The promise is of a keyword asked for a restitution: one told its own input (yade:betan's beta, the
+    # conformance kit's --beta) was asked none.
+    asked_e = (table.law.isin(KEYWORD_LAWS) & table.matched_restitution.notna()
+               if has_rows and "matched_restitution" in table.columns else None)
+    if asked_e is not None and asked_e.any():
+        lines += _keyword_section(table[asked_e], builds, references["model_restitution"])
     if series_cmp is not None:
         pub = series_cmp.dropna(subset=["paper"])
         lines += ["## The paper's series coefficients against the reference solver's (criterion x0)", "",

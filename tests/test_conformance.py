@@ -5,8 +5,10 @@ and velocities in mm and mm/s through a column map PASS; every unusable input is
 naming the file, the row and the column; and the guide's walk-through script runs as it stands.
 
 Unit tier: everything runs in-process (`conformance.__main__.main`), the report without its
-figures (--no-plots) except once. One plan (steel, the viscoelastic law, both geometries, K = 0.1:
-two ladders of four runs) serves every test.
+figures (--no-plots) except once; but `test_the_gate_as_a_process_exits_0_1_and_2`, which starts
+`python -m conformance gate` as a process (workflow tier, by its `runs_workflow` fixture). One
+plan (steel, the viscoelastic law, both geometries, K = 0.1: two ladders of four runs) serves every
+test.
 """
 
 from __future__ import annotations
@@ -364,27 +366,45 @@ def test_the_study_layers_are_imported_in_one_module_of_the_kit():
 
 
 def test_the_gate_as_a_process_exits_0_1_and_2(dumped, tmp_path, runs_workflow):
-    """What a company's CI runs: `python -m conformance gate DIR` as a process of its own, its exit
-    status the verdict (0 PASS, 1 FAIL, 2 unusable input), its last lines the verdict in words."""
-    import subprocess
-    import sys
+    """What a company's CI runs: `.venv/bin/python -m conformance gate DIR` as a process of its own
+    (tests/processes.py), its exit status the verdict: 0 and PASS in report.md, report.html,
+    verdict.json and junit.xml; 1 and FAIL in each; 2 on unusable input, with none of them left to
+    claim a PASS (an earlier gate's files, planted first, are removed)."""
+    import processes
+
+    python = ROOT / ".venv" / "bin" / "python"
 
     def gate(folder):
-        return subprocess.run([sys.executable, "-m", "conformance", "gate", str(folder), "--no-plots"], cwd=ROOT,
-                              capture_output=True, text=True, timeout=300)
+        return processes.run([str(python), "-m", "conformance", "gate", str(folder), "--no-plots"], cwd=ROOT,
+                             capture_output=True, text=True, timeout=300)
+
+    def claims(folder) -> dict[str, str]:
+        """What each verdict file of `folder` says: PASS, FAIL, or '' (no verdict it states)."""
+        out = {}
+        md, html = (folder / "report.md").read_text(), (folder / "report.html").read_text()
+        out["report.md"] = "PASS" if "**Verdict: PASS**" in md else "FAIL" if "**Verdict: FAIL**" in md else ""
+        out["report.html"] = "PASS" if "Verdict: PASS" in html else "FAIL" if "Verdict: FAIL" in html else ""
+        out["verdict.json"] = verdict(folder)["verdict"]
+        junit = (folder / "junit.xml").read_text()
+        out["junit.xml"] = "FAIL" if "<failure" in junit else "PASS" if "<testcase" in junit else ""
+        return out
 
     good = tmp_path / "good"
     shutil.copytree(dumped, good)
     done = gate(good)
     assert done.returncode == 0 and "PASS" in done.stdout, done.stdout[-2000:] + done.stderr[-2000:]
-    assert verdict(good)["verdict"] == "PASS"
+    assert claims(good) == dict.fromkeys(("report.md", "report.html", "verdict.json", "junit.xml"), "PASS")
     off = tmp_path / "off"
     shutil.copytree(dumped, off)
     write_dumps(off, stiffness=1 + 1e-5)
     done = gate(off)
-    assert done.returncode == 1 and "FAIL" in done.stdout and verdict(off)["verdict"] == "FAIL"
+    assert done.returncode == 1 and "FAIL" in done.stdout, done.stdout[-2000:] + done.stderr[-2000:]
+    assert claims(off) == dict.fromkeys(("report.md", "report.html", "verdict.json", "junit.xml"), "FAIL")
     spoiled = tmp_path / "spoiled"
-    shutil.copytree(dumped, spoiled)
+    shutil.copytree(good, spoiled)  # with the good gate's PASS files: a refused gate must not leave them
     _nan(spoiled)
     done = gate(spoiled)
-    assert done.returncode == 2 and "UNUSABLE" in done.stdout and not (spoiled / "verdict.json").exists()
+    assert done.returncode == 2 and "UNUSABLE" in done.stdout, done.stdout[-2000:] + done.stderr[-2000:]
+    left = [n for n in ("report.md", "report.html", "verdict.json", "junit.xml") if (spoiled / n).exists()]
+    assert not any("PASS" in (spoiled / n).read_text() for n in left), left
+    assert left == []

@@ -96,7 +96,9 @@ def build(run):
         ForceResetter(),
         InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Wall_Aabb()]),
         InteractionLoop(
-            [Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom(hertzian=True)],  # hertzian: R* = R
+            # hertzian: R* = R. "wall_hertzian": false is a check's knob (engines/yade_oblique.py), YADE's
+            # default wall, R* = R/2; a study run never sets it.
+            [Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom(hertzian=run.get("wall_hertzian", True))],
             [ip2],
             [Law2_ScGeom_MindlinPhys_Mindlin(neverErase="kso_scale" in run)]),
         NewtonIntegrator(damping=0.0, gravity=(0, 0, 0)),  # YADE's default damping is 0.2
