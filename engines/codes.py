@@ -192,8 +192,8 @@ OPENFOAM_NO_VISCOELASTIC = (
 #                    Python); the steel sweep (16 runs, 21 000 steps): 11 s wall, 6 s CPU, load ~9
 #   OpenFOAM v1912   (icoUncoupledKinematicParcelFoam, one process per run after blockMesh) start-up ~0.5 s;
 #                    a time folder of ~25 files written per step: 1 364 steps in 13.5-18.9 s wall at load
-#                    10-13 (2.3 s user + system on a tmpfs), the test's 7 runs of 6 184 steps in 581 s
-#                    (94 ms/step) at load 11-13
+#                    10-13 (2.3 s user + system on a tmpfs), the test's 7 runs of 6 184 steps in 581-798 s
+#                    (94-129 ms/step) at load 10-13, 93.8 s of OpenFOAM's CPU (15 ms/step, on disk)
 #   ESyS 2.3.5       (mpirun -np 2 esysparticle) start-up 0.7-1.0 s; 130-210 us/step on a quiet machine, up to
 #                    1.4 ms/step under load (a master-worker MPI round trip per step, two with the state
 #                    query; steel, 24 runs of ~1 310 steps: 5.5 s at load 2, 29-43 s at load 7-10 on 2 cores),
@@ -302,10 +302,10 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         cost=EngineCost(start_s=1.0, per_run_s=1.0, per_step_s=30e-3),
         unavailable={law: OPENFOAM_NO_VISCOELASTIC for law in ("viscoelastic", "viscoelastic_clipped")},
         build_entry="{id: openfoam-v1912, code: openfoam, executable: icoUncoupledKinematicParcelFoam}",
-        left_out="OpenFOAM writes a time folder per step: 2-3 ms of its CPU a step on an idle core, 94 ms a step "
-                 "measured on the 2 loaded shared cores (the two ladders of tests/test_engine_openfoam.py: 7 runs, "
-                 "6 184 steps, 581 s); the default study's cases would give it 322 runs of 284 464 steps, and the "
-                 "default study stays near 150 s",
+        left_out="OpenFOAM writes a time folder per step: 15 ms of its CPU a step, 94-129 ms of wall time on the "
+                 "2 loaded shared cores (the two ladders of tests/test_engine_openfoam.py: 7 runs, 6 184 steps, "
+                 "581-798 s, 93.8 s CPU); the default study's cases would give it 322 runs of 284 464 steps, and "
+                 "the default study stays near 150 s",
         notes=(
             "OpenFOAM runs each collision as a case of icoUncoupledKinematicParcelFoam (the carrier flow frozen at "
             "zero, no forces but the collision's), one manualInjection per body injected one step back, deltaT = dt "
