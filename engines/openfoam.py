@@ -33,7 +33,8 @@ checks on the first one; row 0 is the initial state (out of contact, F = 0).
 
 Cost: OpenFOAM writes a time folder of ~25 files per step (~0.17 MB): 15 ms of its own CPU per
 step on this machine's disk (1.7 ms on a tmpfs), 94-129 ms per step of wall time on its 2 shared,
-loaded cores (load 10-13; tests/test_engine_openfoam.py, docs/engines.md). Each case folder is removed once its dump is written.
+loaded cores (load 10-13; tests/test_engine_openfoam.py, docs/engines.md). Each case folder is
+removed once its dump is written.
 """
 
 from __future__ import annotations
