@@ -70,8 +70,9 @@ engines:
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $(DEBIAN_PACKAGES); \
 	fi
 
-# OpenFOAM v1912 (Debian's openfoam): not an engine of the study, the conformance kit's proof on a
-# code no driver of ours runs (conformance/openfoam.py, docs/conformance.md; its test runs in CI).
+# OpenFOAM v1912 (Debian's openfoam): the code `openfoam` (engines/openfoam.py), a build a user adds
+# with one config entry (docs/engines.md; not in the default builds: a time folder per step), and the
+# conformance kit's example (conformance/openfoam.py, docs/conformance.md). Its tests run in CI.
 openfoam:
 	@if command -v icoUncoupledKinematicParcelFoam >/dev/null && command -v blockMesh >/dev/null; then \
 	  echo "openfoam: icoUncoupledKinematicParcelFoam is installed"; \

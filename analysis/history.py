@@ -147,7 +147,8 @@ PROMISE_CHECKS = {"lammps:tsuji": "tsuji promise", "yade:en": "Thornton fit prom
                   "lammps:coeff_restitution": "coeff_restitution promise"}
 
 #: How a sentence names each code.
-CODE_NAMES = {"lammps": "LAMMPS", "yade": "YADE", "kratos": "Kratos", "liggghts": "LIGGGHTS", "esys": "ESyS"}
+CODE_NAMES = {"lammps": "LAMMPS", "yade": "YADE", "kratos": "Kratos", "liggghts": "LIGGGHTS", "esys": "ESyS",
+              "openfoam": "OpenFOAM"}
 
 #: Regression cases of `engines.lammps.regression_cases` -> their check.
 REGRESSION_CHECKS = {"wall-modulus": "wall modulus", "mixing": "mixed pairs"}
@@ -211,13 +212,16 @@ def banner_date(banner: str) -> str:
 
 
 def version_of(banner: str) -> str:
-    """The version a YADE or Kratos banner prints ('2023.02a', '9.5.2'); '' for others.
+    """The version a YADE, Kratos or OpenFOAM banner prints ('2023.02a', '9.5.2', 'v1912'); '' for others.
 
     Parameters
     ----------
     banner : str
-        The version banner an executable printed.
+        The version banner an executable printed (OpenFOAM's `-help`: 'Using: OpenFOAM- (1912) - ...').
     """
+    foam = re.search(r"Using: OpenFOAM\S* \((\d+)\)", banner)
+    if foam:  # ESI's releases are named v<yymm>
+        return f"v{foam.group(1)}"
     version = re.search(r"(?:Yade version|KratosMultiphysics):? (\S+)", banner)
     return version.group(1) if version else ""
 

@@ -1,7 +1,9 @@
 r"""The conformance kit's plan in OpenFOAM (ESI v1912, Debian's `openfoam`): cases and dumps.
 
-Not an engine of the study (no build, no driver): a user-side example of docs/conformance.md
-on a real code the study does not run. OpenFOAM's lagrangian collision models are Hertz with a
+A user-side example of docs/conformance.md on a real code. The case template, the running and the
+conversion are the study's own OpenFOAM driver's (engines/openfoam.py, code ``openfoam``): this
+module only turns a plan.json run into its `engines.openfoam.FoamRun` and writes the kit's dump.
+OpenFOAM's lagrangian collision models are Hertz with a
 Tsuji-like dashpot (src/lagrangian/intermediate/submodels/Kinematic/CollisionModel/PairCollision/
 PairModel/PairSpringSliderDashpot/PairSpringSliderDashpot.C:205-212 @v1912; the wall's
 WallModel/WallSpringSliderDashpot/WallSpringSliderDashpot.C:91-99, :272):
@@ -41,33 +43,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
-import re
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-CLOUD = "kinematicCloud"
-SOLVER = "icoUncoupledKinematicParcelFoam"
-#: Where Debian's package puts OpenFOAM's etc/ (its executables find their etc/controlDict through it).
-FOAM_DIR = "/usr/share/openfoam"
-
-HEADER = """FoamFile
-{{
-    version     2.0;
-    format      ascii;
-    class       {cls};
-    location    "{loc}";
-    object      {obj};
-}}
-"""
-
-
-def foam(cls: str, loc: str, obj: str, body: str) -> str:
-    """An OpenFOAM dictionary file: the header and `body`."""
-    return HEADER.format(cls=cls, loc=loc, obj=obj) + body
-
+from engines import openfoam as engine
+from engines.engine_process import run_logged
+from engines.openfoam import CLOUD, SOLVER, FoamRun, case_rows as _case_rows, foam, name_problem  # noqa: F401
 
 def alpha_of(run: dict) -> float:
     """OpenFOAM's alpha of the run's law: g / sqrt(M* k_n) (eta_N = alpha sqrt(M k_N) delta^{1/4}).
@@ -111,296 +93,32 @@ def told_for_alpha(alpha: float) -> float:
     return e
 
 
-def materials(run: dict) -> tuple[float, float, float]:
-    """(E of the particles, nu, E of the wall) that give the plan's E*.
-
-    With nu = 0: the pair's E* = E / (2 (1 - nu^2)) (PairSpringSliderDashpot.C:117) and the wall's
-    1 / ((1 - nu_p^2)/E_p + (1 - nu_w^2)/E_w) (WallSpringSliderDashpot.C:196) are both E/2.
-    """
-    E = 2.0 * run["effective"]["E_star_Pa"]
-    return E, 0.0, E
-
-
-def block_mesh(plane: bool, R: float) -> str:
-    """A box of hexahedra around the collision: [-L, L] in x (two spheres) or [-L, 0] with the wall
-    patch `plane` at x = 0 (one face, its centre on the line of centres); the other walls 3 R away."""
-    L, h = 8.0 * R, 3.0 * R
-    x0, x1, nx = (-L, 0.0, 2) if plane else (-L, L, 4)
-    v = [(x0, -h, -h), (x1, -h, -h), (x1, h, -h), (x0, h, -h), (x0, -h, h), (x1, -h, h), (x1, h, h), (x0, h, h)]
-    verts = "\n".join(f"    ({a!r} {b!r} {c!r})" for a, b, c in v)
-    walls = ["(0 4 7 3)", "(0 1 5 4)", "(3 7 6 2)", "(0 3 2 1)", "(4 5 6 7)"]
-    if not plane:
-        walls.append("(1 2 6 5)")
-
-    def patch(name, faces):
-        return (f"    {name}\n    {{\n        type wall;\n        faces\n        (\n"
-                + "".join(f"            {f}\n" for f in faces) + "        );\n    }\n")
-
-    patches = patch("walls", walls) + (patch("plane", ["(1 2 6 5)"]) if plane else "")
-    return foam("dictionary", "system", "blockMeshDict",
-                f"scale 1;\nvertices\n(\n{verts}\n);\nblocks\n(\n    hex (0 1 2 3 4 5 6 7) ({nx} 1 1) "
-                f"simpleGrading (1 1 1)\n);\nedges ();\nboundary\n(\n{patches});\nmergePatchPairs ();\n")
-
-
-def cloud_properties(run: dict) -> str:
-    """constant/kinematicCloudProperties: no forces, one manualInjection per body, Hertz + dashpot."""
+def foam_run(run: dict, physics: bool = True) -> FoamRun:
+    """The `engines.openfoam.FoamRun` of a plan.json run; `physics` False: its geometry, step and
+    initial state alone (what the conversion reads), no material or alpha."""
     b1, b2, ini = run["body_1"], run["body_2"], run["initial"]
-    E, nu, E_wall = materials(run)
-    alpha = alpha_of(run)
-    d1 = 2.0 * b1["radius_m"]
-    bodies = [(1, ini["v1_m_s"], d1)]
-    if not b2["plane"]:
-        if b2["radius_m"] != b1["radius_m"] or b2["density_kg_m3"] != b1["density_kg_m3"]:
-            raise ValueError(f"{run['name']}: OpenFOAM's pair model takes one E and nu for every parcel; "
-                             "this template also assumes equal spheres")
-        bodies.append((2, ini["v2_m_s"], 2.0 * b2["radius_m"]))
-    injections = "".join(
-        f"""        body{i}
-        {{
-            type            manualInjection;
-            massTotal       0;
-            parcelBasisType fixed;
-            nParticle       1;
-            SOI             0;
-            positionsFile   "{CLOUD}Positions{i}";
-            U0              ({v!r} 0 0);
-            sizeDistribution
-            {{
-                type        fixedValue;
-                fixedValueDistribution
-                {{
-                    value   {d!r};
-                }}
-            }}
-        }}
-""" for i, v, d in bodies)
-    model = f"""            useEquivalentSize   no;
-            alpha               {alpha!r};
-            b                   1.5;
-            mu                  0;
-            cohesionEnergyDensity 0;
-            collisionResolutionSteps 1;"""
-    return foam("dictionary", "constant", f"{CLOUD}Properties", f"""
-solution
-{{
-    active          true;
-    coupled         false;
-    transient       yes;
-    cellValueSourceCorrection off;
-    maxCo           1;
-    interpolationSchemes
-    {{
-        rho             cell;
-        U               cell;
-        mu              cell;
-    }}
-    integrationSchemes
-    {{
-        U               Euler;
-    }}
-}}
-
-constantProperties
-{{
-    rho0            {b1['density_kg_m3']!r};
-    youngsModulus   {E!r};
-    poissonsRatio   {nu!r};
-}}
-
-subModels
-{{
-    particleForces
-    {{
-    }}
-
-    injectionModels
-    {{
-{injections}    }}
-
-    dispersionModel none;
-    patchInteractionModel none;
-    surfaceFilmModel none;
-    stochasticCollisionModel none;
-    collisionModel pairCollision;
-
-    pairCollisionCoeffs
-    {{
-        maxInteractionDistance  {2.0 * d1!r};
-        writeReferredParticleCloud no;
-        pairModel pairSpringSliderDashpot;
-        pairSpringSliderDashpotCoeffs
-        {{
-{model}
-        }}
-        wallModel wallSpringSliderDashpot;
-        wallSpringSliderDashpotCoeffs
-        {{
-{model}
-            youngsModulus       {E_wall!r};
-            poissonsRatio       {nu!r};
-        }}
-    }}
-}}
-
-cloudFunctions
-{{
-}}
-""")
-
-
-def control_dict(run: dict) -> str:
-    """system/controlDict: deltaT = the plan's dt, `steps` steps, every step written at full precision."""
-    dt, steps = run["dt_s"], run["steps"]
-    return foam("dictionary", "system", "controlDict", f"""
-application     {SOLVER};
-startFrom       startTime;
-startTime       0;
-stopAt          endTime;
-endTime         {steps * dt!r};
-deltaT          {dt!r};
-writeControl    timeStep;
-writeInterval   1;
-purgeWrite      0;
-writeFormat     ascii;
-writePrecision  17;
-writeCompression off;
-timeFormat      general;
-timePrecision   17;
-runTimeModifiable no;
-
-OptimisationSwitches
-{{
-    writeLagrangianPositions 1;
-}}
-""")
-
-
-def injected_at(x: float, v: float, dt: float) -> float:
-    """Where to inject a body that is to be at x at time 0: one free-flight step back (OpenFOAM moves
-    a parcel injected at time 0 by two steps in its first step; see the module's docstring)."""
-    return x - v * dt
-
-
-def positions_file(i: int, x: float) -> str:
-    """constant/kinematicCloudPositions<i>: the manualInjection's one position, (x 0 0)."""
-    return foam("vectorField", "constant", f"{CLOUD}Positions{i}", f"(\n({x!r} 0 0)\n)\n")
+    plane = bool(b2["plane"])
+    more = {}
+    if physics:
+        more = {"rho1": b1["density_kg_m3"], "E_star": run["effective"]["E_star_Pa"], "alpha": alpha_of(run)}
+        if not plane:
+            more["rho2"] = b2["density_kg_m3"]
+    return FoamRun(name=str(run["name"]), dt=run["dt_s"], steps=int(run["steps"]), plane=plane,
+                   R1=b1["radius_m"], x1=ini["x1_m"], v1=ini["v1_m_s"],
+                   R2=math.nan if plane else b2["radius_m"], x2=0.0 if plane else ini["x2_m"],
+                   v2=0.0 if plane else ini["v2_m_s"], **more)
 
 
 def write_case(run: dict, case: Path) -> None:
-    """One OpenFOAM case of one run of the plan."""
-    if case.exists():
-        shutil.rmtree(case)
-    for sub in ("0", "constant", "system"):
-        (case / sub).mkdir(parents=True)
-    plane, ini = run["body_2"]["plane"], run["initial"]
-    files = {
-        "system/controlDict": control_dict(run),
-        "system/blockMeshDict": block_mesh(plane, run["body_1"]["radius_m"]),
-        "system/fvSchemes": foam("dictionary", "system", "fvSchemes", "".join(
-            f"{k}\n{{\n    default none;\n}}\n" for k in ("ddtSchemes", "gradSchemes", "divSchemes",
-                                                         "laplacianSchemes"))
-            + "interpolationSchemes\n{\n    default linear;\n}\n"),
-        "system/fvSolution": foam("dictionary", "system", "fvSolution", "solvers\n{\n}\n"),
-        "constant/g": foam("uniformDimensionedVectorField", "constant", "g",
-                           "dimensions [0 1 -2 0 0 0 0];\nvalue (0 0 0);\n"),
-        "constant/transportProperties": foam("dictionary", "constant", "transportProperties",
-                                             "rhoInf 1.2;\ntransportModel Newtonian;\nnu 1e-05;\n"),
-        "constant/turbulenceProperties": foam("dictionary", "constant", "turbulenceProperties",
-                                              "simulationType laminar;\n"),
-        f"constant/{CLOUD}Properties": cloud_properties(run),
-        f"constant/{CLOUD}Positions1": positions_file(1, injected_at(ini["x1_m"], ini["v1_m_s"], run["dt_s"])),
-        "0/U": foam("volVectorField", "0", "U", "dimensions [0 1 -1 0 0 0 0];\ninternalField uniform (0 0 0);\n"
-                    "boundaryField\n{\n    \".*\"\n    {\n        type noSlip;\n    }\n}\n"),
-    }
-    if not plane:
-        files[f"constant/{CLOUD}Positions2"] = positions_file(2, injected_at(ini["x2_m"], ini["v2_m_s"], run["dt_s"]))
-    for name, text in files.items():
-        (case / name).write_text(text)
+    """One OpenFOAM case of one run of the plan (`engines.openfoam.write_case`), and its run.json."""
+    engine.write_case(foam_run(run), case)
     (case / "run.json").write_text(json.dumps({"run": run["name"], "alpha": alpha_of(run)}, indent=1))
 
 
-# ---------------------------------------------------------------- reading OpenFOAM's output
-
-_NUM = r"[-+0-9.eE]+"
-
-
-def _list_body(text: str) -> str:
-    """The text after the FoamFile header of a lagrangian field file."""
-    i = text.find("}", text.find("FoamFile"))
-    return text[i + 1:]
-
-
-def read_vectors(path: Path) -> list[tuple[float, float, float]]:
-    """A lagrangian vector field (`U`, `f`) or the v1706 `positions` file (the cell label after each
-    vector is ignored): the parcels' vectors in file order."""
-    body = re.sub(r"//.*", "", _list_body(path.read_text())).strip()
-    vectors = [tuple(float(c) for c in m.groups())
-               for m in re.finditer(rf"\(\s*({_NUM})\s+({_NUM})\s+({_NUM})\s*\)", body)]
-    uniform = re.match(r"(\d+)\s*\{", body)  # N{(x y z)}: N equal vectors
-    return vectors * int(uniform.group(1)) if uniform else vectors
-
-
-def read_labels(path: Path) -> list[int]:
-    """A lagrangian label field (`origId`), in file order (uniform `N{v}` lists too)."""
-    body = re.sub(r"//.*", "", _list_body(path.read_text())).strip()
-    m = re.match(r"(\d+)\s*\{\s*(-?\d+)\s*\}", body)
-    if m:
-        return [int(m.group(2))] * int(m.group(1))
-    m = re.match(r"(\d+)\s*\((.*)\)", body, re.S)
-    return [int(x) for x in m.group(2).split()]
-
-
-def time_dirs(case: Path) -> list[Path]:
-    """The case's time directories after 0, in time order."""
-    out = []
-    for p in case.iterdir():
-        try:
-            t = float(p.name)
-        except ValueError:
-            continue
-        if p.is_dir() and t > 0:
-            out.append((t, p))
-    return [p for _, p in sorted(out)]
-
-
 def case_rows(run: dict, case: Path) -> list[tuple]:
-    """(time, overlap, normal_velocity, normal_force) of every step of the run, from the case's output.
-
-    Row 0 is the plan's initial state (out of contact, F = 0); row n (n >= 1) the n-th time
-    directory, at time n dt. Body 1 is the parcel injected by `body1` (the smaller x, it never
-    passes body 2); F = -f_x of body 1 (the force on it, repulsive along -x).
-    """
-    dt, steps, ini = run["dt_s"], run["steps"], run["initial"]
-    b1, b2 = run["body_1"], run["body_2"]
-    plane = b2["plane"]
-    dirs = time_dirs(case)
-    if len(dirs) != steps:
-        raise ValueError(f"{case}: {len(dirs)} time directories written, the plan has {steps} steps")
-
-    def overlap(x1, x2):
-        return b1["radius_m"] + x1 if plane else b1["radius_m"] + b2["radius_m"] - (x2 - x1)
-
-    rows = [(0.0, overlap(ini["x1_m"], ini["x2_m"]), ini["v1_m_s"] - ini["v2_m_s"], 0.0)]
-    for n, d in enumerate(dirs, start=1):
-        t = float(d.name)
-        if abs(t - n * dt) > 1e-6 * dt:
-            raise ValueError(f"{d}: time {t!r} is not step {n} x dt = {n * dt!r}")
-        lag = d / "lagrangian" / CLOUD
-        pos, U, f = (read_vectors(lag / name) for name in ("positions", "U", "f"))
-        want = 1 if plane else 2
-        if not (len(pos) == len(U) == len(f) == want):
-            raise ValueError(f"{lag}: {len(pos)} parcels, the run has {want} bodies")
-        order = sorted(range(want), key=lambda i: pos[i][0])
-        i1 = order[0]
-        x1, v1, F = pos[i1][0], U[i1][0], 0.0 - f[i1][0]  # 0.0 - : no -0.0 out of contact
-        x2, v2 = (0.0, 0.0) if plane else (pos[order[1]][0], U[order[1]][0])
-        if n == 1:  # the first step is free flight: x + v dt, or the injection is misaligned
-            for x, x_ini, v in ((x1, ini["x1_m"], ini["v1_m_s"]), (x2, ini["x2_m"], ini["v2_m_s"])):
-                if abs(x - (x_ini + v * dt)) > 1e-6 * abs(v * dt):
-                    raise ValueError(f"{d}: a body at x = {x!r} after the first step, the plan's free flight "
-                                     f"puts it at {x_ini + v * dt!r}: the injection is misaligned")
-        rows.append((n * dt, overlap(x1, x2), v1 - v2, F))
-    return rows
+    """(time, overlap, normal_velocity, normal_force) of every step of the plan's run, from the
+    case's output (`engines.openfoam.case_rows`)."""
+    return _case_rows(foam_run(run, physics=False), case)
 
 
 def write_dump(plan: dict, run: dict, rows: list[tuple], out: Path, version: str) -> None:
@@ -421,10 +139,6 @@ def openfoam_version() -> str:
     return f"OpenFOAM {SOLVER} (Debian openfoam {v}), pairSpringSliderDashpot/wallSpringSliderDashpot"
 
 
-#: A run's name as the kit's export writes it: it names a case folder this module deletes and rewrites.
-RUN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]*")
-
-
 def run_problem(run: dict) -> str | None:
     """Why a run of plan.json cannot name its case folder and dump (a name that is no plain file name,
     e.g. '../x', or a dump outside dumps/: the plan is data, never a path to delete); None when fine.
@@ -435,11 +149,16 @@ def run_problem(run: dict) -> str | None:
         One entry of plan.json's ``runs``.
     """
     name = str(run.get("name", ""))
-    if not RUN_NAME.fullmatch(name) or ".." in name:
-        return f"plan.json: run name {name!r} is not a plain file name (letters, digits and _ . + -)"
+    problem = name_problem(name)  # the same check as the study's driver
+    if problem:
+        return f"plan.json: {problem}"
     if run.get("dump") != f"dumps/{name}.csv":
         return f"plan.json: run {name!r}: field 'dump' {run.get('dump')!r} is not dumps/{name}.csv"
     return None
+
+
+#: The time limit of one blockMesh or solver process of the kit's `run` [s] (a run of 2 700 steps: ~40 s).
+RUN_TIMEOUT_S = 1800.0
 
 
 def main(argv=None) -> int:
@@ -466,13 +185,14 @@ def main(argv=None) -> int:
             write_case(run, case)
             print(f"{case}: alpha = {alpha_of(run)!r}")
         elif args.action == "run":
-            env = {**os.environ, "WM_PROJECT_DIR": os.environ.get("WM_PROJECT_DIR", FOAM_DIR)}
-            for cmd in (["blockMesh"], [SOLVER]):
-                with open(case / f"log.{cmd[0]}", "w") as log:
-                    rc = subprocess.run(cmd + ["-case", str(case)], stdout=log, stderr=subprocess.STDOUT,
-                                        env=env).returncode
+            solver = engine.require_executable("openfoam", SOLVER)
+            for cmd in ([engine.mesher_of(solver)], [solver]):
+                name = Path(cmd[0]).name
+                done = run_logged(cmd + ["-case", str(case)], case / f"log.{name}", RUN_TIMEOUT_S,
+                                  env=engine.foam_environment())
+                rc = -9 if done.timed_out else done.returncode
                 if rc:
-                    print(f"{case}: {cmd[0]} failed (exit {rc}), see log.{cmd[0]}", file=sys.stderr)
+                    print(f"{case}: {name} failed (exit {rc}), see log.{name}", file=sys.stderr)
                     return 1
             log = (case / f"log.{SOLVER}").read_text()
             if "move-collide subCycles" in log:

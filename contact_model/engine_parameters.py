@@ -125,6 +125,35 @@ def kratos_hertz(E: float, R: float, M: float, eta: float) -> dict[str, float]:
     return {"young": 2.0 * E, "poisson": 0.0}
 
 
+def openfoam_spring_slider_dashpot(E: float, R: float, M: float, eta: float) -> dict[str, float]:
+    """{'youngsModulus': 2 E* [Pa], 'poissonsRatio': 0} of every parcel and of the wall in OpenFOAM's
+    pairSpringSliderDashpot / wallSpringSliderDashpot.
+
+    OpenFOAM's pair modulus is E / (2 (1 - nu^2)) (PairSpringSliderDashpot.C:117 @v1912) and the
+    wall's 1 / ((1 - nu_p^2)/E_p + (1 - nu_w^2)/E_w) (WallSpringSliderDashpot.C:196): with nu = 0 and
+    E = 2 E* both are E*, so that F_el = (4/3) E* sqrt(R*) delta^{3/2} [N] (k_N = (4/3) E* sqrt(R*),
+    PairSpringSliderDashpot.C:205). eta is not used: OpenFOAM's dashpot is alpha sqrt(M* k_N)
+    delta^{1/4} d(delta)/dt, not the viscoelastic delta^{1/2} d(delta)/dt.
+
+    Parameters
+    ----------
+    E : float
+        The effective modulus E* [Pa].
+    R : float
+        The effective radius R* [m].
+    M : float
+        The effective mass M* [kg].
+    eta : float
+        The effective viscosity [Pa s].
+
+    Returns
+    -------
+    dict of str to float
+        youngsModulus [Pa], poissonsRatio [-].
+    """
+    return {"youngsModulus": 2.0 * E, "poissonsRatio": 0.0}
+
+
 def esys_hertzian_viscoelastic(E: float, R: float, M: float, eta: float) -> dict[str, float]:
     """{'E': 2 E* [Pa], 'nu': 0, 'A': 3 eta / (2 E*) [s]} for ESyS's ``HertzianViscoElasticPrms``,
     and 'E_hertz_mindlin': E* [Pa], the modulus of its ``HertzMindlinViscoPrms`` (the out-of-the-box law).

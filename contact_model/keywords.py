@@ -255,7 +255,8 @@ class Keyword:
     clipped : bool
         Whether the code clips the total normal force at zero (by default).
     told : str
-        What the user gives: 'e' (a restitution coefficient), 'beta' (a damping ratio) or 'eta'.
+        What the user gives: 'e' (a restitution coefficient), 'beta' (a damping ratio), 'alpha'
+        (OpenFOAM's dashpot coefficient) or 'eta'.
     coefficient : callable or None
         For the 'quarter' form: told value -> b, exactly as the code computes it.
     releases : str
@@ -373,6 +374,30 @@ def _identity(c: float) -> float:
     return c
 
 
+def openfoam_alpha(e: float) -> float:
+    """OpenFOAM's alpha whose own equation restitutes e (x0, the tail kept): alpha = sqrt(5) |beta(e)|.
+
+    OpenFOAM takes alpha, not a restitution: eta_N = alpha sqrt(M* k_N) delta^{1/4}
+    (PairSpringSliderDashpot.C:205-212, WallSpringSliderDashpot.C:91-99 @v1912) is b = sqrt(5/4) alpha
+    in x'' + b x^{1/4} x' + (5/4) x^{3/2} = 0, whose x0 restitution is exp(-pi zeta / sqrt(1 - zeta^2))
+    with zeta = 2 b / 5 (`reference.quarter_power_damping.damping_for_restitution_quarter_power`):
+    b = (5/2) |beta(e)|, alpha = b / sqrt(5/4) = sqrt(5) |beta(e)|, |beta| = -ln e / sqrt(ln^2 e + pi^2).
+
+    Parameters
+    ----------
+    e : float
+        The requested restitution coefficient, 0 < e <= 1 [-].
+
+    Returns
+    -------
+    float
+        alpha [-] (0 at e = 1).
+    """
+    if not 0.0 < e <= 1.0:
+        raise ValueError(f"a restitution coefficient must lie in (0, 1], got {e!r}")
+    return math.sqrt(5.0) * abs(log_beta(e))  # abs: no -0.0 at e = 1
+
+
 @functools.lru_cache(maxsize=256)
 def _dashpot_for_restitution(e: float) -> float:
     """The linear dashpot's c that restitutes e under x0 (`reference.linear_damping`): what the
@@ -436,6 +461,13 @@ KEYWORDS: dict[str, Keyword] = {k.name: k for k in (
             lambda e: 2.5 * log_beta(e, pi=3.1415926), "2.3.5",
             "Model/HertzMindlinViscoInteraction.cpp:135-147 @2.3.5 (Antypov 2011, eq. 6; pi written 3.1415926; "
             "the force is not clipped)"),
+    Keyword("openfoam:alpha", "openfoam", "pairSpringSliderDashpot / wallSpringSliderDashpot with alpha", "quarter",
+            False, "alpha", lambda alpha: math.sqrt(1.25) * alpha, "v1912",
+            "src/lagrangian/intermediate/submodels/Kinematic/CollisionModel/PairCollision/PairModel/"
+            "PairSpringSliderDashpot/PairSpringSliderDashpot.C:205-212, WallModel/WallSpringSliderDashpot/"
+            "WallSpringSliderDashpot.C:91-99 @v1912 (eta_N = alpha sqrt(M* k_N) delta^(1/4), no clip); told "
+            "alpha(e) = sqrt(5) |beta(e)|, the alpha whose own equation restitutes e (openfoam_alpha)",
+            accepts=(-math.inf, math.inf), from_restitution=openfoam_alpha),
     # A code the study runs no engine of (engines.codes.KIT_CODES): the conformance kit exports its plans for
     # a user to run in their own build; the study never plans it (no build of config `builds:` can name it).
     Keyword("chrono:smc_hertz", "chrono",

@@ -74,7 +74,8 @@ def query_version(executable: str, code: str, timeout_s: float = VERSION_TIMEOUT
     """What the executable prints when asked for its version the way `code` is (empty input)."""
     with tempfile.TemporaryDirectory() as scratch:  # LIGGGHTS writes log.liggghts before reading -log
         out = Path(scratch) / "version.txt"
-        done = run_logged(line_buffered([executable, *CODES[code].version_args]), out, timeout_s, cwd=scratch)
+        done = run_logged(line_buffered([executable, *CODES[code].version_args]), out, timeout_s, cwd=scratch,
+                          env=CODES[code].process_environment())
         text = out.read_text(errors="replace")
     if done.timed_out:
         tail = "\n".join(f"    | {line}" for line in text.strip().splitlines()[-10:]) or "    | (nothing)"

@@ -113,6 +113,19 @@ class EngineCode:
     native: dict[str, tuple[tuple[int, int], str]] = field(default_factory=dict)
     oblique_driver: str = ""
     oblique_unavailable: dict[str, str] = field(default_factory=dict)
+    #: {variable: default}: what its executables need in their environment (OpenFOAM's
+    #: WM_PROJECT_DIR, where its etc/ is), each the caller's own value where it has one.
+    environment: dict[str, str] = field(default_factory=dict)
+    #: The config `builds:` entry a user adds to run it, when the default study leaves it out
+    #: (docs/engines.md shows it), and why it is left out; '' for the codes of the default study.
+    build_entry: str = ""
+    left_out: str = ""
+
+    def process_environment(self) -> dict[str, str]:
+        """`environment` with this process's own values where it has them (a user's OpenFOAM elsewhere)."""
+        import os
+
+        return {k: os.environ.get(k, v) for k, v in self.environment.items()}
 
     def supplied_in(self, version: str) -> dict[str, str]:
         """`supplied` of the release whose version line is `version` ('YADE 2025.2.0 (...)'): the
@@ -161,6 +174,11 @@ KRATOS_NO_VISCOELASTIC = (
     "every Hertz law built on it) damps with 2 gamma sqrt(M* kn) d(delta)/dt, kn = 2 Y* sqrt(R* delta), i.e. "
     "delta^(1/4) d(delta)/dt, not delta^(1/2) d(delta)/dt")
 
+#: Why OpenFOAM v1912 has no viscoelastic cell (engines.openfoam's docstring cites the sources).
+OPENFOAM_NO_VISCOELASTIC = (
+    "the viscoelastic model cannot be expressed in OpenFOAM v1912: its pairSpringSliderDashpot and "
+    "wallSpringSliderDashpot damp with alpha sqrt(M* k_N) delta^(1/4) d(delta)/dt, not delta^(1/2) d(delta)/dt")
+
 # Process costs measured here (Debian packages, 2 shared cores, steel case, fix print /
 # PyRunner every step, one process per sweep; engine process wall time, median of a few runs; YADE's
 # driver has since dropped the PyRunner for its own sub-step loop: its steps ~10x cheaper, a sample
@@ -172,6 +190,10 @@ KRATOS_NO_VISCOELASTIC = (
 #   Kratos 10.4.4    start-up 0.7 s, 260 us/step (1 run of 13 000 steps: 4.35 s; machine loaded), ~50 ms/run
 #                    (PyPI wheels in .venv-kratos, OMP_NUM_THREADS=1; most of a step is the DEM stage's
 #                    Python); the steel sweep (16 runs, 21 000 steps): 11 s wall, 6 s CPU, load ~9
+#   OpenFOAM v1912   (icoUncoupledKinematicParcelFoam, one process per run after blockMesh) start-up ~0.5 s;
+#                    a time folder of ~25 files written per step: 1 364 steps in 13.5-18.9 s wall at load
+#                    10-13 (2.3 s user + system on a tmpfs), the test's 7 runs of 6 184 steps in 581-798 s
+#                    (94-129 ms/step) at load 10-13, 93.8 s of OpenFOAM's CPU (15 ms/step, on disk)
 #   ESyS 2.3.5       (mpirun -np 2 esysparticle) start-up 0.7-1.0 s; 130-210 us/step on a quiet machine, up to
 #                    1.4 ms/step under load (a master-worker MPI round trip per step, two with the state
 #                    query; steel, 24 runs of ~1 310 steps: 5.5 s at load 2, 29-43 s at load 7-10 on 2 cores),
@@ -266,6 +288,32 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
             "Kratos runs as a Python package (the build's executable is the Python of .venv-kratos/), one process "
             "per sweep with a fresh Model per run, OMP_NUM_THREADS=1, Symplectic_Euler time integration "
             "(each recorded position is paired with the force Kratos computed from it, one step later).",
+        )),
+    EngineCode(
+        name="openfoam", title="OpenFOAM", integrator="velocity Verlet",
+        keyword="openfoam:alpha",
+        # `-help` ends with 'Using: OpenFOAM- (1912) - visit www.openfoam.com' (v1912 has no -version).
+        banner=re.compile(r"^Using: OpenFOAM.*\(\d+\).*$", re.M), version_args=("-help",),
+        environment={"WM_PROJECT_DIR": "/usr/share/openfoam"},  # Debian's: its executables read etc/controlDict
+        install_hint="run `make openfoam` (Debian's openfoam package, v1912: icoUncoupledKinematicParcelFoam and "
+                     "blockMesh)",
+        parameters=model_to_engine.openfoam_spring_slider_dashpot,
+        driver="engines.openfoam:run_openfoam", decks=("cases/decks/openfoam/*",),
+        default_law="`pairSpringSliderDashpot` / `wallSpringSliderDashpot` with `alpha`",
+        cost=EngineCost(start_s=1.0, per_run_s=1.0, per_step_s=30e-3),
+        unavailable={law: OPENFOAM_NO_VISCOELASTIC for law in ("viscoelastic", "viscoelastic_clipped")},
+        build_entry="{id: openfoam-v1912, code: openfoam, executable: icoUncoupledKinematicParcelFoam}",
+        left_out="OpenFOAM writes a time folder per step: 15 ms of its CPU a step, 94-129 ms of wall time on the "
+                 "2 loaded shared cores (the two ladders of tests/test_engine_openfoam.py: 7 runs, 6 184 steps, "
+                 "581-798 s, 93.8 s CPU); the default study's cases would give it 322 runs of 284 464 steps, and "
+                 "the default study stays near 150 s",
+        notes=(
+            "OpenFOAM runs each collision as a case of icoUncoupledKinematicParcelFoam (the carrier flow frozen at "
+            "zero, no forces but the collision's), one manualInjection per body injected one step back, deltaT = dt "
+            "and collisionResolutionSteps 1 (one velocity-Verlet collision step per flow step); the plane is the "
+            "wall patch x = 0 (wallSpringSliderDashpot, Young's modulus 2 E*, Poisson's ratio 0 as the parcels').",
+            "Every step is written as a time folder and read back into the study's dump (engines/openfoam.py); "
+            "the case folder is removed after.",
         )),
 )}
 

