@@ -108,6 +108,14 @@ def contact_words(run: ObliqueRun, stiffness_factor: float = 1.0) -> dict[str, s
     return {"wall": f"granular {words}"} if plane else {"pair": "granular", "model": words}
 
 
+#: A step of the oblique decks against the head-on one of the cost table (engines.codes), per rank
+#: count, so that the process's time limit counts it. Two ranks on two cores oversubscribe (each step's
+#: exchange waits on a shared core): the full oblique set (`snakemake -j2 oblique`, 27 Nov 2026, load
+#: 10-15) lost 126 (29 Sep 2021) and 183 (22 Jul 2025) checks to two-rank sweeps the 60 s floor killed.
+#: LIGGGHTS's driver measured 63 us a step on one rank and 1.26 ms on two under such load (its STEP_COST).
+STEP_COST = {1: 5, 2: 100}
+
+
 @dataclass(frozen=True)
 class _Job:
     """What `ScriptEngine` asks of a run, for an `ObliqueRun`."""
@@ -130,7 +138,8 @@ class _Job:
         return self.run.normal.case
 
     def steps(self) -> int:
-        return self.run.normal.steps()
+        """The run's steps in head-on steps' cost (`STEP_COST`): what its time limit counts."""
+        return STEP_COST[self.run.ranks] * self.run.normal.steps()
 
 
 def owners_file(out: Path) -> Path:
