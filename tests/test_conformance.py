@@ -181,6 +181,9 @@ def test_column_map_of_positions_in_mm_passes(folder, capsys):
     write_mapped(folder)
     assert main(["gate", str(folder), "--no-plots"]) == 0, capsys.readouterr().out
     assert verdict(folder)["checked"] == 12
+    # --no-plots draws no figure (report.write_report once drew them all the same: its plots folder's
+    # Path had taken the name of its `plots` flag); the reports are written, their image links dangling.
+    assert not list((folder / "plots").glob("*.png")) and "plots/errors.png" in (folder / "report.md").read_text()
 
 
 def test_the_guide_walkthrough_runs_as_written(folder, monkeypatch, capsys):
