@@ -400,18 +400,19 @@ def write_report(inputs: ReportInputs, out_dir: Path, workers: int = 1, plots: b
     references = i.references if i.references is not None else report_references(table, reference)
     full, table, limits, ladder_runs = report_rows(table)
     out_dir = Path(out_dir)
-    plots = out_dir / "plots"
-    plots.mkdir(parents=True, exist_ok=True)
+    # Not named `plots`: that is the flag, and a Path there (always true) drew the figures of --no-plots too.
+    plot_dir = out_dir / "plots"
+    plot_dir.mkdir(parents=True, exist_ok=True)
     tolerance = verdict["tolerance"]
     has_rows = len(table) > 0
     curve = references["curve"]
     figures = []
     if has_rows:  # the slowest first: with two workers it is drawn beside the three others
-        figures += [(plot_errors, (table, tolerance, plots / "errors.png", builds)),
-                    (plot_ratios, (table, "x0", plots / "ratios_x0.png", curve, builds)),
-                    (plot_ratios, (table, "F0", plots / "ratios_F0.png", curve, builds))]
+        figures += [(plot_errors, (table, tolerance, plot_dir / "errors.png", builds)),
+                    (plot_ratios, (table, "x0", plot_dir / "ratios_x0.png", curve, builds)),
+                    (plot_ratios, (table, "F0", plot_dir / "ratios_F0.png", curve, builds))]
     if len(limits) and len(ladder_runs):
-        figures.append((plot_ladders, (ladder_runs, limits, tolerance, plots / "ladders.png", builds)))
+        figures.append((plot_ladders, (ladder_runs, limits, tolerance, plot_dir / "ladders.png", builds)))
     figures_drawn = start_drawing(figures if plots else [], workers)
     cells = matrix_cells(gating(checks), not_available, builds)  # the known-defect checks have their own section
     # What the study supplies of a law in each build's release, marked at the cells.

@@ -69,3 +69,16 @@ def test_a_strong_dashpot_never_lets_go_and_the_inverse_is_exact():
         damping_for_restitution_linear(1.0)
     with pytest.raises(ValueError, match="must be finite"):
         solve_linear_damping(-1.0)
+
+
+def test_the_cache_gives_the_solvers_own_numbers_in_a_fresh_dict():
+    """solve_linear_damping caches by c (the inversions ask for the same c again and again): the cached
+    answer is the uncached solver's, number for number (==, no tolerance); a caller's change to its dict
+    does not reach the next caller; and -0.0 is answered as asked."""
+    from reference.linear_damping import _solve_linear_damping
+
+    first = solve_linear_damping(0.7)
+    first["eps_x0"] = -1.0
+    again = solve_linear_damping(0.7)
+    assert again == _solve_linear_damping.__wrapped__(0.7) and 0 < again["eps_x0"] < 1
+    assert math.copysign(1.0, solve_linear_damping(-0.0)["c"]) == -1.0
