@@ -37,7 +37,7 @@ from __future__ import annotations
 import math
 import os
 import shutil
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -52,7 +52,7 @@ from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .errors import EngineRunFailed
 from .finish_run import Sweep
 from .lammps import TANGENTIAL, model_words
-from .oblique_run import ObliqueRun
+from .oblique_run import ObliqueJob, ObliqueRun
 from .script_engine import ScriptEngine, common_variables, number
 
 DECK_OF_GEOMETRY = {"sphere-sphere": "oblique_two_spheres.in", "sphere-plane": "oblique_sphere_plane.in"}
@@ -116,37 +116,11 @@ def contact_words(run: ObliqueRun, stiffness_factor: float = 1.0) -> dict[str, s
 STEP_COST = {1: 5, 2: 100}
 
 
-@dataclass(frozen=True)
-class _Job:
-    """What `ScriptEngine` asks of a run, for an `ObliqueRun`."""
-
-    run: ObliqueRun
-    stiffness_factor: float = 1.0
-
-    engine = "lammps"
-
-    @property
-    def name(self) -> str:
-        return self.run.name
-
-    @property
-    def ladder(self) -> str:
-        return self.run.ladder
-
-    @property
-    def case(self) -> str:
-        return self.run.normal.case
-
-    def steps(self) -> int:
-        """The run's steps in head-on steps' cost (`STEP_COST`): what its time limit counts."""
-        return STEP_COST[self.run.ranks] * self.run.normal.steps()
-
-
 def owners_file(out: Path) -> Path:
     return out.with_suffix(".owners")
 
 
-def deck_variables(job: _Job, out: Path, decks: Path) -> dict[str, str]:
+def deck_variables(job: ObliqueJob, out: Path, decks: Path) -> dict[str, str]:
     """The deck variables of one oblique run (SI): the head-on run's, the tangential velocities
     and spins, the contact model, the record and the owners file."""
     run = job.run
@@ -171,9 +145,9 @@ def read_owners(path: Path) -> dict[int, int]:
 
 
 class ObliqueEngine(ScriptEngine):
-    """LAMMPS's ScriptEngine for `_Job`s: an 8-column record, written with the oblique metadata."""
+    """LAMMPS's ScriptEngine for `ObliqueJob`s: an 8-column record, written with the oblique metadata."""
 
-    def _dump(self, job: _Job, raw: Path, workdir: Path, log: Path, version: str, override: dict) -> Path:
+    def _dump(self, job: ObliqueJob, raw: Path, workdir: Path, log: Path, version: str, override: dict) -> Path:
         run = job.run
         try:
             data = np.loadtxt(raw, skiprows=1, ndmin=2)
@@ -283,7 +257,8 @@ def run_lammps_oblique(runs: list[ObliqueRun], workdir, executable: str = "lmp",
         refused = refuse_missing(runs, version)
         sweep.failures.update(refused)
     for ranks, sub in ((1, Path(workdir)), (2, Path(workdir) / "np2")):
-        jobs = [_Job(r, stiffness_factor) for r in runs if r.ranks == ranks and r.name not in refused]
+        jobs = [ObliqueJob(r, STEP_COST[ranks], stiffness_factor) for r in runs
+                if r.ranks == ranks and r.name not in refused]
         if not jobs:
             continue
         engine = OBLIQUE if ranks == 1 else replace(OBLIQUE, launcher=mpirun_launcher(executable, mpirun))

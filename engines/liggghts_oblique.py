@@ -34,7 +34,7 @@ and each rank's file lists the atoms it owns (`read_owners`).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -48,7 +48,7 @@ from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .errors import EngineRunFailed
 from .finish_run import Sweep
 from .lammps_oblique import mpirun_launcher
-from .oblique_run import ObliqueRun
+from .oblique_run import ObliqueJob, ObliqueRun
 from .script_engine import ScriptEngine, common_variables, number
 
 DECK_OF_GEOMETRY = {"sphere-sphere": "oblique_two_spheres.in", "sphere-plane": "oblique_sphere_plane.in"}
@@ -102,33 +102,6 @@ def contact_variables(run: ObliqueRun, stiffness_factor: float = 1.0, friction_f
             "tail": "limitForce " + ("on" if run.law == "viscoelastic_clipped" else "off")}
 
 
-@dataclass(frozen=True)
-class _Job:
-    """What `ScriptEngine` asks of a run, for an `ObliqueRun`."""
-
-    run: ObliqueRun
-    stiffness_factor: float = 1.0
-    friction_factor: float = 1.0
-
-    engine = "liggghts"
-
-    @property
-    def name(self) -> str:
-        return self.run.name
-
-    @property
-    def ladder(self) -> str:
-        return self.run.ladder
-
-    @property
-    def case(self) -> str:
-        return self.run.normal.case
-
-    def steps(self) -> int:
-        """The run's steps in head-on steps' cost (`STEP_COST`): what its time limit counts."""
-        return STEP_COST[self.run.ranks] * self.run.normal.steps()
-
-
 def owners_pattern(out: Path, when: str = "owners") -> Path:
     """The per-rank files of who owns which atom: `<out>.<when>.<rank>` (`%` is the rank)."""
     return out.with_suffix(f".{when}.%")
@@ -147,7 +120,7 @@ def read_owners(pattern: Path) -> dict[int, int] | None:
     return owners if files else None
 
 
-def deck_variables(job: _Job, out: Path, decks: Path) -> dict[str, str]:
+def deck_variables(job: ObliqueJob, out: Path, decks: Path) -> dict[str, str]:
     """The deck variables of one oblique run (SI): the head-on run's, the tangential velocities,
     spins and positions, the contact coefficients, the processors grid, the record and the owners
     files."""
@@ -168,10 +141,10 @@ def initial_row(run: ObliqueRun) -> list[float]:
 
 
 class ObliqueEngine(ScriptEngine):
-    """LIGGGHTS's ScriptEngine for `_Job`s: an 8-column record (the step-0 row prepended), written
+    """LIGGGHTS's ScriptEngine for `ObliqueJob`s: an 8-column record (the step-0 row prepended), written
     with the oblique metadata."""
 
-    def _dump(self, job: _Job, raw: Path, workdir: Path, log: Path, version: str, override: dict) -> Path:
+    def _dump(self, job: ObliqueJob, raw: Path, workdir: Path, log: Path, version: str, override: dict) -> Path:
         run = job.run
         try:
             data = np.loadtxt(raw, skiprows=1, ndmin=2)
@@ -253,7 +226,7 @@ def run_liggghts_oblique(runs: list[ObliqueRun], workdir, executable: str = "lig
         check_run(run)
     sweep = Sweep()
     for ranks, sub in ((1, Path(workdir)), (2, Path(workdir) / "np2")):
-        jobs = [_Job(r, stiffness_factor, friction_factor) for r in runs if r.ranks == ranks]
+        jobs = [ObliqueJob(r, STEP_COST[r.ranks], stiffness_factor, friction_factor) for r in runs if r.ranks == ranks]
         if not jobs:
             continue
         engine = OBLIQUE if ranks == 1 else replace(OBLIQUE, launcher=mpirun_launcher(executable, mpirun))

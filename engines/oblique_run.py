@@ -154,3 +154,48 @@ class ObliqueRun:
                 "damping_ratio": self.damping_ratio, "ranks": self.ranks, "angle": self.angle,
                 "oblique_ladder": self.ladder, **{f"initial_{k}": v for k, v in self.initial_velocities().items()},
                 **{f"initial_{k}": v for k, v in self.initial_positions().items()}}
+
+
+@dataclass(frozen=True)
+class ObliqueJob:
+    """An `ObliqueRun` as an engine's sweep machinery sees a run (`engines.script_engine`,
+    `engines.driven_sweep`): its name, engine, case, ladder and the steps its time limit counts,
+    with the knobs of the sensitivity checks (1: the model's own).
+
+    Attributes
+    ----------
+    run : ObliqueRun
+        The run.
+    step_cost : int
+        A step of the driver's oblique deck in head-on steps of the cost table
+        (`engines.codes.EngineCost`), for this run's rank count: what its time limit counts.
+    stiffness_factor : float
+        The factor on the tangential stiffness k_t the deck writes [-].
+    friction_factor : float
+        The factor on the friction coefficient mu the deck writes [-].
+    """
+
+    run: ObliqueRun
+    step_cost: int = 1
+    stiffness_factor: float = 1.0
+    friction_factor: float = 1.0
+
+    @property
+    def name(self) -> str:
+        return self.run.name
+
+    @property
+    def engine(self) -> str:
+        return self.run.normal.engine
+
+    @property
+    def case(self) -> str:
+        return self.run.normal.case
+
+    @property
+    def ladder(self) -> str:
+        return self.run.ladder
+
+    def steps(self) -> int:
+        """The run's steps in head-on steps' cost: what its time limit counts."""
+        return self.step_cost * self.run.normal.steps()

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -25,35 +24,13 @@ from .driven_sweep import collect_sweep, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import EngineRunFailed, require_executable
 from .finish_run import Sweep
-from .oblique_run import ObliqueRun
+from .oblique_run import ObliqueJob, ObliqueRun
 
 EXECUTABLE = "yade"
 DRIVER = Path(__file__).resolve().parents[1] / "cases" / "decks" / "yade" / "oblique.py"
 #: The deck records 8 columns where the head-on one records 4: its steps cost about twice as much
 #: (the time limit counts them so).
 STEP_COST = 2
-
-
-@dataclass(frozen=True)
-class _Run:
-    """An `ObliqueRun` as the driven sweep's machinery sees a run: its name, engine, case and steps."""
-
-    run: ObliqueRun
-
-    @property
-    def name(self) -> str:
-        return self.run.name
-
-    @property
-    def engine(self) -> str:
-        return self.run.normal.engine
-
-    @property
-    def case(self) -> str:
-        return self.run.normal.case
-
-    def steps(self) -> int:
-        return STEP_COST * self.run.normal.steps()
 
 
 def _material(body, which: str) -> tuple[float, float]:
@@ -66,7 +43,7 @@ def _material(body, which: str) -> tuple[float, float]:
     return body.young, body.poisson
 
 
-def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None, wall_hertzian: bool = True) -> dict:
+def job_entry(spec: ObliqueJob, out: Path, stiffness_scale: float | None = None, wall_hertzian: bool = True) -> dict:
     """The numbers of one oblique run for the deck (SI); `stiffness_scale` (a check's knob, not a
     study run's): YADE's tangential stiffness k_so multiplied by it; `wall_hertzian` False (a check's
     knob too): YADE's default wall, Ig2_Wall_Sphere_ScGeom(hertzian=False), whose radius is the
@@ -90,7 +67,7 @@ def job_entry(spec: _Run, out: Path, stiffness_scale: float | None = None, wall_
     return entry
 
 
-def _oblique_dump(engine, spec: _Run, entry, st, raw: Path, workdir: Path, log, version, driver: Path) -> Path:
+def _oblique_dump(engine, spec: ObliqueJob, entry, st, raw: Path, workdir: Path, log, version, driver: Path) -> Path:
     run = spec.run
     if not st["ok"]:
         raise EngineRunFailed(run.name, f"{engine}: {st['error']}", log)
@@ -131,7 +108,7 @@ def run_yade_oblique(runs: list[ObliqueRun], workdir, executable: str = EXECUTAB
     Ig2_Wall_Sphere_ScGeom without hertzian=True (pkg/dem/Ig2_Facet_Sphere_ScGeom.hpp:103).
     """
     exe = require_executable("yade", executable)
-    specs = [_Run(r) for r in runs]
+    specs = [ObliqueJob(r, STEP_COST) for r in runs]
     files = prepare_sweep("yade", specs, workdir, partial(job_entry, stiffness_scale=stiffness_scale,
                                                                      wall_hertzian=wall_hertzian))
     cmd = [exe, "-n", "-x", str(DRIVER), f"job={files.job}"]
