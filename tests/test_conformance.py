@@ -27,6 +27,8 @@ import yaml
 
 from conformance.__main__ import main
 
+import plan_verlet
+
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "conformance.md"
 
@@ -44,38 +46,11 @@ def load(folder: Path) -> dict:
 
 
 def integrate(run: dict, stiffness: float = 1.0) -> dict[str, np.ndarray]:
-    """Velocity Verlet (the force after the first half kick, with the velocity of that half step, as
-    LAMMPS integrates) of the viscoelastic law written from the material: F = (4/3) E* sqrt(R*) d^(3/2)
-    + 2 eta sqrt(R*) d^(1/2) d', the tail kept; `stiffness` multiplies the Hertz term. One sample per step."""
+    """`plan_verlet.integrate` of the viscoelastic law written from the material: F = (4/3) E* sqrt(R*)
+    d^(3/2) + 2 eta sqrt(R*) d^(1/2) d', the tail kept; `stiffness` multiplies the Hertz term."""
     E, R, eta = run["effective"]["E_star_Pa"], run["effective"]["R_star_m"], run["eta_Pa_s"]
     kn, gn = stiffness * 4.0 / 3.0 * E * math.sqrt(R), 2.0 * eta * math.sqrt(R)
-    plane = run["body_2"]["plane"]
-    R1, R2 = run["body_1"]["radius_m"], 0.0 if plane else run["body_2"]["radius_m"]
-    m1 = run["body_1"]["mass_kg"]
-    inv2 = 0.0 if plane else 1.0 / run["body_2"]["mass_kg"]
-    init = run["initial"]
-    x1, v1, x2, v2 = init["x1_m"], init["v1_m_s"], init["x2_m"], init["v2_m_s"]
-    dt, n = run["dt_s"], run["steps"] + 1
-    out = {k: np.empty(n) for k in ("x1", "v1", "x2", "v2", "force")}
-
-    def force(x1, x2, rate):
-        d = R1 + x1 if plane else R1 + R2 - (x2 - x1)
-        return kn * d**1.5 + gn * math.sqrt(d) * rate if d > 0 else 0.0
-
-    F = force(x1, x2, v1 - v2)
-    for i in range(n):
-        out["x1"][i], out["v1"][i], out["x2"][i], out["v2"][i], out["force"][i] = x1, v1, x2, v2, F
-        v1 -= 0.5 * dt * F / m1
-        v2 += 0.5 * dt * F * inv2
-        x1 += dt * v1
-        x2 += dt * v2
-        F = force(x1, x2, v1 - v2)
-        v1 -= 0.5 * dt * F / m1
-        v2 += 0.5 * dt * F * inv2
-    out["time"] = np.arange(n) * dt
-    out["overlap"] = R1 + out["x1"] if plane else R1 + R2 - (out["x2"] - out["x1"])
-    out["rate"] = out["v1"] - out["v2"]
-    return out
+    return plan_verlet.integrate(run, lambda d, rate: kn * d**1.5 + gn * math.sqrt(d) * rate)
 
 
 def write_dumps(folder: Path, stiffness: float = 1.0) -> None:

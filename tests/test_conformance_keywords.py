@@ -28,6 +28,8 @@ import pytest
 
 from conformance.__main__ import main
 
+import plan_verlet
+
 ROOT = Path(__file__).resolve().parents[1]
 STEEL = str(ROOT / "cases" / "steel.yaml")
 #: The relative change of a damping coefficient the gate must see: eps moves by ~1e-4 b/2 ~ 4e-6 (b ~ 0.08).
@@ -42,37 +44,11 @@ def verdict(folder: Path) -> dict:
     return json.loads((folder / "verdict.json").read_text())
 
 
-def integrate(run: dict, force) -> dict[str, np.ndarray]:
-    """Velocity Verlet (the force after the first half kick, with the velocity of that half step, as
-    LAMMPS integrates) of the collision of `run`, `force(delta, rate)` [N] the code's contact force
-    while delta > 0 (0 otherwise). One sample per step: time, overlap, d(delta)/dt, force (SI)."""
-    plane = run["body_2"]["plane"]
-    R1, R2 = run["body_1"]["radius_m"], 0.0 if plane else run["body_2"]["radius_m"]
-    m1 = run["body_1"]["mass_kg"]
-    inv2 = 0.0 if plane else 1.0 / run["body_2"]["mass_kg"]
-    init = run["initial"]
-    x1, v1, x2, v2 = init["x1_m"], init["v1_m_s"], init["x2_m"], init["v2_m_s"]
-    dt, n = run["dt_s"], run["steps"] + 1
-
-    def overlap(x1, x2):
-        return R1 + x1 if plane else R1 + R2 - (x2 - x1)
-
-    def f(x1, x2, rate):
-        d = overlap(x1, x2)
-        return force(d, rate) if d > 0 else 0.0
-
-    out = np.empty((n, 4))
-    F = f(x1, x2, v1 - v2)
-    for i in range(n):
-        out[i] = (i * dt, overlap(x1, x2), v1 - v2, F)
-        v1 -= 0.5 * dt * F / m1
-        v2 += 0.5 * dt * F * inv2
-        x1 += dt * v1
-        x2 += dt * v2
-        F = f(x1, x2, v1 - v2)
-        v1 -= 0.5 * dt * F / m1
-        v2 += 0.5 * dt * F * inv2
-    return out
+def integrate(run: dict, force) -> np.ndarray:
+    """`plan_verlet.integrate` of `force(delta, rate)` [N]: one row per step, time, overlap,
+    d(delta)/dt, force (SI)."""
+    s = plan_verlet.integrate(run, force)
+    return np.column_stack([s["time"], s["overlap"], s["rate"], s["force"]])
 
 
 def write_dumps(folder: Path, law) -> None:
