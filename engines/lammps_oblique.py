@@ -40,18 +40,17 @@ import shutil
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 
 from contact_model.effective import effective_shear_modulus
 from contact_model.tangential_models import TANGENTIAL_MODELS
-from records.collision_metrics import ExtractionError, collision_metrics
-from records.dump_file import OBLIQUE_COLUMNS, write_dump
+from records.dump_file import write_dump
 
 from .codes import code
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S
 from .errors import EngineRunFailed
 from .finish_run import Sweep
 from .lammps import TANGENTIAL, model_words
+from .oblique_record import read_oblique_record
 from .oblique_run import ObliqueJob, ObliqueRun
 from .script_engine import ScriptEngine, common_variables, number
 
@@ -149,20 +148,7 @@ class ObliqueEngine(ScriptEngine):
 
     def _dump(self, job: ObliqueJob, raw: Path, workdir: Path, log: Path, version: str, override: dict) -> Path:
         run = job.run
-        try:
-            data = np.loadtxt(raw, skiprows=1, ndmin=2)
-        except (OSError, ValueError) as err:
-            raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
-        if data.shape[0] < 3 or data.shape[1] != len(OBLIQUE_COLUMNS):
-            raise EngineRunFailed(run.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} "
-                                  f"columns, not {len(OBLIQUE_COLUMNS)}", log)
-        if not np.all(np.isfinite(data)):
-            row = int(np.nonzero(~np.all(np.isfinite(data), axis=1))[0][0])
-            raise EngineRunFailed(run.name, f"the engine produced NaN or inf (record row {row + 1})", log)
-        try:
-            collision_metrics(*data[:, :4].T, impact_velocity=run.normal.velocity)
-        except ExtractionError as err:
-            raise EngineRunFailed(run.name, str(err), log)
+        data = read_oblique_record(raw, run, log)
         variables = {**self.variables(job, raw, self.decks), **override}
         owners = owners_file(raw)
         meta = {"engine": self.name, "engine_version": version, "deck": self.deck_files(job)[0],
