@@ -27,6 +27,7 @@ from reference import hertz_ratios, paper_series_value  # noqa: E402
 from records.files import save_figure, set_margins  # noqa: E402
 
 from verdict.gate import GATED_QUANTITIES  # noqa: E402
+from .panels import subplots  # noqa: E402
 from .report_matrix import build_order  # noqa: E402
 
 RATIO = {"eps": ("eps", 1.0), "T": ("T/T_e", "T_e"), "A": ("A/A_e", "A_e"),
@@ -107,7 +108,7 @@ def plot_ratios(table: pd.DataFrame, criterion: str, path: Path, curve, builds=N
     runs = runs[[c for c in dict.fromkeys(drawn) if c in runs.columns]]
     present = _builds(runs, builds)
     styles = build_styles(build_order(builds, table))
-    fig, axes = plt.subplots(1, 5, figsize=(20, 4.2))
+    fig, axes = subplots(1, 5, figsize=(20, 4.2))
     for ax, q in zip(axes, RATIO):
         name = RATIO[q][0]
         ax.plot(K, ref[name], "k-", lw=1.5, label="reference ODE")
@@ -136,7 +137,7 @@ def plot_errors(table: pd.DataFrame, tolerance: dict, path: Path, builds=None) -
     runs = runs[[c for c in drawn if c in runs.columns]]
     present = _builds(runs, builds)
     styles = build_styles(build_order(builds, table))
-    fig, axes = plt.subplots(2, 3, figsize=(15, 7.5), sharex=True, squeeze=False)
+    fig, axes = subplots(2, 3, figsize=(15, 7.5), sharex=True, squeeze=False)
     for row, criterion in zip(axes, CRITERIA):
         for ax, q in zip(row, GATED_QUANTITIES):
             for build in present:

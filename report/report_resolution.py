@@ -19,6 +19,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 from records.files import save_figure, set_margins  # noqa: E402
 
 from verdict.gate import GATED_QUANTITIES  # noqa: E402
+from .panels import subplots  # noqa: E402
 
 
 def resolution_sentence(checks: pd.DataFrame, tolerance: dict) -> str:
@@ -70,7 +71,7 @@ def plot_ladders(runs: pd.DataFrame, limits: pd.DataFrame, tolerance: dict, path
     builds = [b for b in (builds or []) if b in set(runs.build)] + [b for b in pd.unique(runs.build)
                                                                      if b not in set(builds or [])]
     colours = {b: plt.get_cmap("tab10")(k % 10) for k, b in enumerate(builds)}
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
+    fig, axes = subplots(1, 3, figsize=(16, 4.8))
     limit_of = {(r.ladder, r.criterion): r for r in limits.itertuples()}
     # Each ladder's rungs, sorted by h once for the three panels, from the few columns drawn: sorting
     # every group of the whole summary, once per panel, was half of a case report's seconds.

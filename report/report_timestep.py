@@ -25,9 +25,11 @@ def plot_error_maps(bands: pd.DataFrame, path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .panels import subplots
+
     geometries = list(dict.fromkeys(bands.geometry))
-    fig, axes = plt.subplots(len(geometries), len(SHOWN), figsize=(4.2 * len(SHOWN), 3.4 * len(geometries)),
-                             squeeze=False, sharex=True)
+    fig, axes = subplots(len(geometries), len(SHOWN), figsize=(4.2 * len(SHOWN), 3.4 * len(geometries)),
+                         squeeze=False, sharex=True)
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     laws = list(dict.fromkeys(bands.law))
     for i, g in enumerate(geometries):
@@ -72,7 +74,9 @@ def plot_largest_steps(table: pd.DataFrame, path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    from .panels import subplots
+
+    fig, (left, right) = subplots(1, 2, figsize=(11, 4.2), sharey=True)
     styles = {1e-2: "-", 1e-3: "--", 1e-4: ":"}
     v = table[table.law == "viscoelastic"]
     for tol, s in v.groupby("tolerance"):
