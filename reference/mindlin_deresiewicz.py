@@ -40,11 +40,13 @@ Thornton's rules, kept:
   P' = dir mu N', so P' is continuous; this is also the start of a contact with Psi_1 < 1 (below);
 - |P| <= mu N: where |P| reaches mu N the whole contact slides (gross sliding), P = mu N sign(P),
   and the memory is wiped; on either side (a load held behind a turning point meets the falling
-  cap too: the elastic recoil slides the contact back, as the codes' cap does). Sliding (dir =
-  sign(P)) ends where the stuck law would carry |P| back inside the cap, 8 G* a dir v_s < mu N'
-  (the codes' criterion with their k_t = 8 G* a): after a reversal of the
-  slip (dir v_s < 0) as unloading from T* = dir mu N, else (the cap growing faster than the spring,
-  N' > 0) as loading under the theta = 1 rule;
+  cap too: it slides back, against the branch's slip, only while the cap falls faster than the
+  no-slip spring unloads, 8 G* a |v_s| <= mu |N'|, as the codes' cap scales their spring; else
+  it turns at the cap, unloading from T* = sign(P) mu N). Sliding (dir = sign(P)) ends where
+  the stuck law would carry |P| back inside the cap, 8 G* a dir v_s < mu N' (the codes'
+  criterion with their k_t = 8 G* a): after a reversal of the slip (dir v_s < 0) as unloading
+  from T* = dir mu N, else (the cap growing faster than the spring, N' > 0) as loading under the
+  theta = 1 rule;
 - theta is kept in [0, 1].
 
 Left out, with the measured reason: Thornton moves the reversal points with the cap while N
@@ -503,7 +505,11 @@ def _integrate(c: _Contact, v_s0: float):
                         dense_output=False)
         if sol.status == -1:
             raise RuntimeError(f"solve_mindlin_deresiewicz: the integration failed ({sol.message})")
-        tops.append(float(np.max(np.abs(sol.y[2] * P_scale))) if kind == "branch" else c.mu * c.N_m)
+        if kind == "branch":
+            tops.append(float(np.max(np.abs(sol.y[2] * P_scale))))
+        else:  # sliding: |P| = mu N, largest at the piece's maximum of N = N_m sin^3 psi
+            lo, hi = psi, float(sol.t[-1])
+            tops.append(c.mu * (c.N_m if lo <= math.pi / 2 <= hi else max(c.normal(lo)[2], c.normal(hi)[2])))
         fired = [(sol.t_events[i][0], names[i], sol.y_events[i][0]) for i in range(len(events))
                  if len(sol.t_events[i])]
         if not fired:
@@ -536,10 +542,23 @@ def _integrate(c: _Contact, v_s0: float):
         elif name == "reverse":
             y = np.append(y, y[2])
             direction = -direction
-        elif name in ("cap", "cap behind"):
+        elif name == "cap":
             kind = "slide"
-            direction = direction if name == "cap" else -direction
             y = np.array([y[0], y[1], direction * c.mu * N])
+        elif name == "cap behind":
+            # The falling cap meets the load held on the far side, P = -dir mu N. It slides that
+            # way (towards sign P, against this branch's slip) only while the cap falls faster than
+            # the no-slip spring unloads, 8 G* a |v_s| <= mu |N'|: the end-of-sliding rule, which
+            # at the cap already holds otherwise (the branch's annulus let P fall slower than the
+            # cap, its no-slip spring does not). Then the load turns at the cap: unloading from
+            # T* = -dir mu N, memory wiped, the branch's direction kept.
+            dt_psi, _, _, dN_psi = c.normal(psi)
+            P = -direction * c.mu * N
+            if 8.0 * c.G_star * a * abs(y[1]) * dt_psi <= -c.mu * dN_psi:
+                kind, direction = "slide", -direction
+                y = np.array([y[0], y[1], P])
+            else:
+                y = np.array([y[0], y[1], P, P])
         elif name == "return":
             drop = 2 if len(reversals) >= 2 else 1
             y = y[:len(y) - drop]
