@@ -6,11 +6,11 @@ plan (`engines.plan.plan_runs`, steel, K = 0.1): the law ``default`` (keyword ``
 told alpha(e) for the viscoelastic reference eps at K = 0.1) between two spheres, and ``elastic``
 (alpha = 0) on the plane. Their dumps go through the study's own gate (`analysis.comparison`,
 `analysis.extrapolation`, `verdict.gate`) at the study's tolerances (1e-6 relative on T, A and eps,
-|error| + resolution): PASS, every check. Measured here (2 shared cores, load 10-13): 7 runs, 6 184 steps
-in 581 s and 798 s wall, 93.8 s of OpenFOAM's CPU (15 ms a step, most of it writing time folders);
-errors of the limits (resolution): keyword T 1.6e-9 (2.9e-7), A 6.4e-9 (2.5e-7), eps 7.2e-9 (1e-8);
-elastic T 2.1e-10 (1e-8), A 1.7e-10 (2.4e-8), eps 9.2e-10 (1e-8). On idle cores the sweep costs about
-its CPU, ~1.5 min (the fixture prints wall and CPU).
+|error| + resolution): PASS, every check. Measured here (2 shared cores): 7 runs, 6 184 steps in 57 s
+wall, 12.4 s of OpenFOAM's CPU (2.0 ms a step) at load 7, its cases on a tmpfs; 523 s wall and 104 s
+of CPU at load 14 with its cases on the disk, as before (the fixture prints wall and CPU); errors of
+the limits (resolution): keyword T 1.6e-9 (2.9e-7), A 6.4e-9 (2.5e-7), eps 7.2e-9 (1e-8); elastic
+T 2.1e-10 (1e-8), A 1.7e-10 (2.4e-8), eps 9.2e-10 (1e-8).
 
 The cases run in a scratch folder of the sweep's own on a tmpfs (`openfoam.scratch_folder`); the
 same run on the disk (no tmpfs: the work folder) writes the same dump, byte for byte.
