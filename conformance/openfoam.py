@@ -224,11 +224,13 @@ def convert(plan: dict, run: dict, case: Path, plan_dir: Path) -> None:
 
 def make_dumps(plan: dict, runs: list[dict], plan_dir: Path) -> int:
     """`cases`, `run` and `convert` of each run in turn, its case in a scratch folder of its own
-    (`engines.openfoam.scratch_folder`: a tmpfs when one is writable, else in the plan's folder),
+    (`engines.openfoam.scratch_folder`: a tmpfs when one is writable and holds the longest run's
+    case, else in the plan's folder),
     removed after its dump is written: one run's time folders at a time, never on the disk when a
     tmpfs is there. A failing run stops the rest and keeps its log (copied beside the plan as
     ``openfoam-<run>.log``); the scratch folder goes in every case. 0, or 1 on a failure."""
-    with engine.scratch_folder(plan_dir) as (scratch, where):
+    need = max((int(r["steps"]) for r in runs), default=0) * engine.TMPFS_BYTES_PER_STEP
+    with engine.scratch_folder(plan_dir, need) as (scratch, where):
         print(f"cases in {scratch} ({where}), each removed after its dump")
         for run in runs:
             case = scratch / run["name"]

@@ -274,27 +274,40 @@ def remove_case(case: Path, root: Path) -> None:
 SCRATCH_PARENTS = (Path("/dev/shm"),)
 #: The prefix of a scratch folder: the study's, and this process's (a test finds its own by it).
 SCRATCH_PREFIX = "hertz-openfoam-"
+#: What a case holds of a tmpfs per step [bytes]: ~35 files of a 4 kB page each, 141 kB measured
+#: (`du`, two spheres, 367 steps: 51.7 MB), with a margin. A container's /dev/shm is often 64 MB.
+TMPFS_BYTES_PER_STEP = 200_000
+
+
+def room(parent: Path) -> int:
+    """Bytes free for an unprivileged writer in the file system of `parent` (statvfs) [bytes]."""
+    st = os.statvfs(parent)
+    return st.f_bavail * st.f_frsize
 
 
 @contextmanager
-def scratch_folder(fallback):
+def scratch_folder(fallback, need_bytes: int = 0):
     """A new, empty folder of the study's own for a sweep's case folders, removed on leaving (on
     success, an error or an interrupt alike): ``(path, where)``.
 
     The folder is made by `tempfile.mkdtemp` (a name of its own, mode 0700) in the first of
-    `SCRATCH_PARENTS` that is a writable directory (a tmpfs), else in `fallback` (the run's work
-    folder, on disk); `where` says which (``"tmpfs /dev/shm"`` or ``"work folder"``). Nothing
-    from a config or a plan names it: only what this function made is removed.
+    `SCRATCH_PARENTS` that is a writable directory (a tmpfs) with `need_bytes` free, else in
+    `fallback` (the run's work folder, on disk); `where` says which (``"tmpfs /dev/shm"`` or
+    ``"work folder"``). Nothing from a config or a plan names it: only what this function made is
+    removed.
 
     Parameters
     ----------
     fallback : str or os.PathLike
-        The work folder, used when no tmpfs is writable; it must exist.
+        The work folder, used when no tmpfs is writable or has room; it must exist.
+    need_bytes : int
+        What one case of the sweep holds at most [bytes] (its longest run's steps x
+        `TMPFS_BYTES_PER_STEP`: the cases are removed one by one).
     """
     prefix = f"{SCRATCH_PREFIX}{os.getpid()}-"
     path, where = None, "work folder"
     for parent in SCRATCH_PARENTS:
-        if parent.is_dir() and os.access(parent, os.W_OK | os.X_OK):
+        if parent.is_dir() and os.access(parent, os.W_OK | os.X_OK) and room(parent) >= need_bytes:
             try:
                 path, where = Path(tempfile.mkdtemp(prefix=prefix, dir=parent)), f"tmpfs {parent}"
                 break
@@ -460,10 +473,11 @@ def run_openfoam(specs: list[RunSpec], workdir, executable: str = SOLVER,
     and run by the solver (`executable`), both as argument lists with OpenFOAM's environment
     (`foam_environment`) and a time limit (`engines.engine_process.time_limit` of that run, at least
     `timeout_floor_s`), its output converted to the study's dump (`case_rows`, `write_run_dump`),
-    and the case folder removed (~7 MB per 200 steps). The cases run in one scratch folder the
-    sweep makes and always removes (`scratch_folder`: a tmpfs when one is writable, else inside
-    `workdir`); each run's log (`workdir/<name>.openfoam.log`, the solver's own) ends with a line
-    naming it. Only where the case folders are changes, never a number: the dumps are the same,
+    and the case folder removed (~29 MB of a tmpfs per 200 steps). The cases run in one scratch
+    folder the sweep makes and always removes (`scratch_folder`: a tmpfs when one is writable and
+    holds the longest run's case, else inside `workdir`); each run's log
+    (`workdir/<name>.openfoam.log`, the solver's own) ends with a line naming it. Only where the
+    case folders are changes, never a number: the dumps are the same,
     byte for byte (tests/test_engine_openfoam.py).
 
     Raises
@@ -493,7 +507,8 @@ def run_openfoam(specs: list[RunSpec], workdir, executable: str = SOLVER,
     workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     sweep, started = Sweep(), time.monotonic()
-    with scratch_folder(workdir) as (scratch, where):
+    need = max(s.steps() for s in specs) * TMPFS_BYTES_PER_STEP if specs else 0
+    with scratch_folder(workdir, need) as (scratch, where):
         for spec, run in zip(specs, runs):
             (workdir / f"{spec.name}.csv").unlink(missing_ok=True)
             case = scratch / f"{spec.name}.case"

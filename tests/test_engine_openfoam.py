@@ -188,13 +188,16 @@ def test_a_run_stopped_at_its_time_limit_fails_alone_and_leaves_no_scratch(tmp_p
 
 def test_the_scratch_folder_goes_on_an_error_and_falls_back_to_the_work_folder(tmp_path, monkeypatch):
     """`scratch_folder` makes its own folder (mode 0700) in the tmpfs, else in the work folder when no
-    tmpfs is writable, and removes it, its contents too, when the block raises."""
+    tmpfs is writable or has the room asked, and removes it, its contents too, when the block raises."""
     with pytest.raises(RuntimeError, match="in the middle"):
         with openfoam.scratch_folder(tmp_path) as (scratch, where):
             assert where == "tmpfs /dev/shm" and scratch.parent == Path("/dev/shm")
             assert scratch.stat().st_mode & 0o777 == 0o700
             (scratch / "a.case" / "0").mkdir(parents=True)
             raise RuntimeError("in the middle")
+    assert not scratch.exists()
+    with openfoam.scratch_folder(tmp_path, need_bytes=10**18) as (scratch, where):  # no tmpfs holds an exabyte
+        assert where == "work folder" and scratch.parent == tmp_path
     assert not scratch.exists()
     monkeypatch.setattr(openfoam, "SCRATCH_PARENTS", (tmp_path / "no-tmpfs",))
     with openfoam.scratch_folder(tmp_path) as (scratch, where):
