@@ -58,12 +58,13 @@ browser:
 test-unit: venv
 	$(PY) -m pytest -n $(JOBS) -m unit
 
-bench: engines lammps-2025 kratos-10.4 yade-2025 venv
+bench: engines lammps-2025 kratos-10.4 yade-2025 openfoam venv
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.reference_solver
 	$(PY) -m benchmarks.engine_samples
 	$(PY) -m benchmarks.study
 	$(PY) -m benchmarks.post_processing
 	$(PY) -m benchmarks.engine_overheads
+	$(PY) -m benchmarks.openfoam_steps
 	$(PY) -m benchmarks.history
 	$(PY) -m benchmarks.sensitivity
 	OMP_NUM_THREADS=1 taskset -c 0 $(PY) -m benchmarks.calibration_coverage

@@ -19,6 +19,7 @@ g / sqrt(M* k_n), given directly.
     python -m conformance.openfoam cases PLAN_DIR [--only SUBSTRING]   # one OpenFOAM case per run
     python -m conformance.openfoam run PLAN_DIR [--only SUBSTRING]     # blockMesh + solver, one at a time
     python -m conformance.openfoam convert PLAN_DIR                    # cases' output -> dumps/*.csv
+    python -m conformance.openfoam dumps PLAN_DIR [--only SUBSTRING]   # all three, run by run, on a tmpfs
     python -m conformance.openfoam told ALPHA                          # the export of a given alpha
 
 The run set-up: `icoUncoupledKinematicParcelFoam` (the carrier flow frozen at zero, no drag, no
@@ -43,6 +44,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -163,7 +165,7 @@ RUN_TIMEOUT_S = 1800.0
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m conformance.openfoam", description=__doc__.split("\n\n")[0])
-    ap.add_argument("action", choices=("cases", "run", "convert", "told"))
+    ap.add_argument("action", choices=("cases", "run", "convert", "dumps", "told"))
     ap.add_argument("plan_dir", help="the plan's folder (`export --out`); for `told`, OpenFOAM's alpha")
     ap.add_argument("--only", default="", help="only the runs whose name contains this")
     args = ap.parse_args(argv)
@@ -178,6 +180,8 @@ def main(argv=None) -> int:
     if problems:
         print("\n".join(problems), file=sys.stderr)
         return 2
+    if args.action == "dumps":
+        return make_dumps(plan, runs, args.plan_dir)
     cases = args.plan_dir / "openfoam"
     for run in runs:
         case = cases / run["name"]
@@ -185,26 +189,60 @@ def main(argv=None) -> int:
             write_case(run, case)
             print(f"{case}: alpha = {alpha_of(run)!r}")
         elif args.action == "run":
-            solver = engine.require_executable("openfoam", SOLVER)
-            for cmd in ([engine.mesher_of(solver)], [solver]):
-                name = Path(cmd[0]).name
-                done = run_logged(cmd + ["-case", str(case)], case / f"log.{name}", RUN_TIMEOUT_S,
-                                  env=engine.foam_environment())
-                rc = -9 if done.timed_out else done.returncode
-                if rc:
-                    print(f"{case}: {name} failed (exit {rc}), see log.{name}", file=sys.stderr)
-                    return 1
-            log = (case / f"log.{SOLVER}").read_text()
-            if "move-collide subCycles" in log:
-                print(f"{case}: OpenFOAM sub-cycled the collisions (the step is not the plan's dt)", file=sys.stderr)
+            if run_case(case):
                 return 1
             print(f"{case}: ran")
         else:
-            rows = case_rows(run, case)
-            write_dump(plan, run, rows, args.plan_dir / run["dump"], openfoam_version())
-            print(f"{args.plan_dir / run['dump']}: {len(rows)} rows")
+            convert(plan, run, case, args.plan_dir)
     return 0
 
+
+def run_case(case: Path) -> int:
+    """blockMesh and the solver on `case` (argument lists, OpenFOAM's environment, `RUN_TIMEOUT_S`
+    each); 0, or 1 after saying on stderr what failed and where its log is."""
+    solver = engine.require_executable("openfoam", SOLVER)
+    for cmd in ([engine.mesher_of(solver)], [solver]):
+        name = Path(cmd[0]).name
+        done = run_logged(cmd + ["-case", str(case)], case / f"log.{name}", RUN_TIMEOUT_S,
+                          env=engine.foam_environment())
+        rc = -9 if done.timed_out else done.returncode
+        if rc:
+            print(f"{case}: {name} failed (exit {rc}), see log.{name}", file=sys.stderr)
+            return 1
+    if "move-collide subCycles" in (case / f"log.{SOLVER}").read_text():
+        print(f"{case}: OpenFOAM sub-cycled the collisions (the step is not the plan's dt)", file=sys.stderr)
+        return 1
+    return 0
+
+
+def convert(plan: dict, run: dict, case: Path, plan_dir: Path) -> None:
+    """The run's dump (plan_dir / its ``dump``) from the case's output."""
+    rows = case_rows(run, case)
+    write_dump(plan, run, rows, plan_dir / run["dump"], openfoam_version())
+    print(f"{plan_dir / run['dump']}: {len(rows)} rows")
+
+
+def make_dumps(plan: dict, runs: list[dict], plan_dir: Path) -> int:
+    """`cases`, `run` and `convert` of each run in turn, its case in a scratch folder of its own
+    (`engines.openfoam.scratch_folder`: a tmpfs when one is writable and holds the longest run's
+    case, else in the plan's folder),
+    removed after its dump is written: one run's time folders at a time, never on the disk when a
+    tmpfs is there. A failing run stops the rest and keeps its log (copied beside the plan as
+    ``openfoam-<run>.log``); the scratch folder goes in every case. 0, or 1 on a failure."""
+    need = max((int(r["steps"]) for r in runs), default=0) * engine.TMPFS_BYTES_PER_STEP
+    with engine.scratch_folder(plan_dir, need) as (scratch, where):
+        print(f"cases in {scratch} ({where}), each removed after its dump")
+        for run in runs:
+            case = scratch / run["name"]
+            write_case(run, case)
+            failed = run_case(case)
+            if failed:
+                for log in sorted(case.glob("log.*")):
+                    shutil.copyfile(log, plan_dir / f"openfoam-{run['name']}.{log.name}")
+                return failed
+            convert(plan, run, case, plan_dir)
+            engine.remove_case(case, scratch)
+    return 0
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -191,9 +191,13 @@ OPENFOAM_NO_VISCOELASTIC = (
 #                    (PyPI wheels in .venv-kratos, OMP_NUM_THREADS=1; most of a step is the DEM stage's
 #                    Python); the steel sweep (16 runs, 21 000 steps): 11 s wall, 6 s CPU, load ~9
 #   OpenFOAM v1912   (icoUncoupledKinematicParcelFoam, one process per run after blockMesh) start-up ~0.5 s;
-#                    a time folder of ~25 files written per step: 1 364 steps in 13.5-18.9 s wall at load
-#                    10-13 (2.3 s user + system on a tmpfs), the test's 7 runs of 6 184 steps in 581-798 s
-#                    (94-129 ms/step) at load 10-13, 93.8 s of OpenFOAM's CPU (15 ms/step, on disk)
+#                    a time folder of ~35 files written per step, on a tmpfs (engines/openfoam.py
+#                    scratch_folder): per step, disk -> tmpfs, wall 90.3 -> 7.6 ms, OpenFOAM's CPU 34.5 ->
+#                    2.4 ms, the driver's 2.3 -> 0.9 ms (benchmarks/openfoam_steps.py, load 5.4-5.8); the
+#                    test's 7 runs of 6 184 steps: 523 s wall (85 ms/step), 104 s CPU at load 14 on disk,
+#                    57 s wall (9.2 ms/step), 12.4 s CPU (2.0 ms/step) at load 7 on a tmpfs. per_step_s
+#                    below stays at the disk's cost: it sets the time limit, and a machine with no
+#                    writable tmpfs runs on the disk
 #   ESyS 2.3.5       (mpirun -np 2 esysparticle) start-up 0.7-1.0 s; 130-210 us/step on a quiet machine, up to
 #                    1.4 ms/step under load (a master-worker MPI round trip per step, two with the state
 #                    query; steel, 24 runs of ~1 310 steps: 5.5 s at load 2, 29-43 s at load 7-10 on 2 cores),
@@ -303,9 +307,9 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         cost=EngineCost(start_s=1.0, per_run_s=1.0, per_step_s=30e-3),
         unavailable={law: OPENFOAM_NO_VISCOELASTIC for law in ("viscoelastic", "viscoelastic_clipped")},
         build_entry="{id: openfoam-v1912, code: openfoam, executable: icoUncoupledKinematicParcelFoam}",
-        left_out="OpenFOAM writes a time folder per step: 15 ms of its CPU a step, 94-129 ms of wall time on the "
-                 "2 loaded shared cores (the two ladders of tests/test_engine_openfoam.py: 7 runs, 6 184 steps, "
-                 "581-798 s, 93.8 s CPU); the default study's cases would give it 322 runs of 284 464 steps, and "
+        left_out="OpenFOAM writes a time folder per step: on a tmpfs 2.4 ms of its CPU and 0.9 ms of the driver's "
+                 "a step (7.6 ms of wall time on the 2 shared cores at load 5.6; 90 ms on the disk); the default "
+                 "study's cases would give it 322 runs of 284 464 steps, ~940 s of CPU (>= 470 s on 2 cores), and "
                  "the default study stays near 150 s",
         notes=(
             "OpenFOAM runs each collision as a case of icoUncoupledKinematicParcelFoam (the carrier flow frozen at "

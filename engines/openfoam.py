@@ -31,18 +31,29 @@ whole step, :493), once by the cloud's move-collide step. The case therefore inj
 step back, at x - v dt: the n-th time directory is then step n (time n dt), which `case_rows`
 checks on the first one; row 0 is the initial state (out of contact, F = 0).
 
-Cost: OpenFOAM writes a time folder of ~25 files per step (~0.17 MB): 15 ms of its own CPU per
-step on this machine's disk (1.7 ms on a tmpfs), 94-129 ms per step of wall time on its 2 shared,
-loaded cores (load 10-13; tests/test_engine_openfoam.py, docs/engines.md). Each case folder is
-removed once its dump is written.
+Cost: OpenFOAM writes a time folder of ~35 files every step (~35 kB; v1912 writes every field of
+the parcels and of the carrier at each write time, KinematicParcelIO.C `writeFields`, and no
+dictionary entry selects fewer), which on this machine's disk was most of a run. The cases
+therefore run in a scratch folder of the sweep's own on a tmpfs (`scratch_folder`, /dev/shm; the
+work folder where none is writable), each case removed after its run and the folder at the end of
+the sweep, success or failure. Only where the files go changes: the dumps are byte-identical
+(sha256; tests/test_engine_openfoam.py, benchmarks/openfoam_steps.py). Per step, medians of
+`python -m benchmarks.openfoam_steps` (`make bench`; 2 runs of 574 steps, 3 repeats, 2 shared
+cores at load 5.4-5.8), disk -> tmpfs: wall 90.3 -> 7.6 ms, OpenFOAM's CPU (blockMesh and the
+solver, user + system) 34.5 -> 2.4 ms, the driver's own CPU (case files, the conversion
+`case_rows`, removing the case) 2.3 -> 0.9 ms. Of that 0.9 ms, removing the ~35 files is ~0.6 ms
+and the conversion ~0.25 ms (367 steps: 0.09 s).
 """
 
 from __future__ import annotations
 
 import math
+import os
 import re
 import shutil
+import tempfile
 import time
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from string import Template
@@ -256,6 +267,60 @@ def remove_case(case: Path, root: Path) -> None:
     shutil.rmtree(case, ignore_errors=True)
 
 
+# ---------------------------------------------------------------- the scratch folder
+
+#: Where a sweep's case folders go when one is writable: a tmpfs (RAM). OpenFOAM writes ~35 small
+#: files a step; on this machine's disk that costs 10-100x the solver's own step (docstring, Cost).
+SCRATCH_PARENTS = (Path("/dev/shm"),)
+#: The prefix of a scratch folder: the study's, and this process's (a test finds its own by it).
+SCRATCH_PREFIX = "hertz-openfoam-"
+#: What a case holds of a tmpfs per step [bytes]: ~35 files of a 4 kB page each, 141 kB measured
+#: (`du`, two spheres, 367 steps: 51.7 MB), with a margin. A container's /dev/shm is often 64 MB.
+TMPFS_BYTES_PER_STEP = 200_000
+
+
+def room(parent: Path) -> int:
+    """Bytes free for an unprivileged writer in the file system of `parent` (statvfs) [bytes]."""
+    st = os.statvfs(parent)
+    return st.f_bavail * st.f_frsize
+
+
+@contextmanager
+def scratch_folder(fallback, need_bytes: int = 0):
+    """A new, empty folder of the study's own for a sweep's case folders, removed on leaving (on
+    success, an error or an interrupt alike): ``(path, where)``.
+
+    The folder is made by `tempfile.mkdtemp` (a name of its own, mode 0700) in the first of
+    `SCRATCH_PARENTS` that is a writable directory (a tmpfs) with `need_bytes` free, else in
+    `fallback` (the run's work folder, on disk); `where` says which (``"tmpfs /dev/shm"`` or
+    ``"work folder"``). Nothing from a config or a plan names it: only what this function made is
+    removed.
+
+    Parameters
+    ----------
+    fallback : str or os.PathLike
+        The work folder, used when no tmpfs is writable or has room; it must exist.
+    need_bytes : int
+        What one case of the sweep holds at most [bytes] (its longest run's steps x
+        `TMPFS_BYTES_PER_STEP`: the cases are removed one by one).
+    """
+    prefix = f"{SCRATCH_PREFIX}{os.getpid()}-"
+    path, where = None, "work folder"
+    for parent in SCRATCH_PARENTS:
+        if parent.is_dir() and os.access(parent, os.W_OK | os.X_OK) and room(parent) >= need_bytes:
+            try:
+                path, where = Path(tempfile.mkdtemp(prefix=prefix, dir=parent)), f"tmpfs {parent}"
+                break
+            except OSError:  # full, or read-only after all: the disk still works, only slower
+                continue
+    if path is None:
+        path = Path(tempfile.mkdtemp(prefix=prefix, dir=fallback))
+    try:
+        yield path, where
+    finally:
+        shutil.rmtree(path, ignore_errors=True)
+
+
 # ---------------------------------------------------------------- running OpenFOAM
 
 def foam_environment() -> dict[str, str]:
@@ -404,11 +469,16 @@ def run_openfoam(specs: list[RunSpec], workdir, executable: str = SOLVER,
                  timeout_floor_s: float = DEFAULT_TIMEOUT_FLOOR_S) -> Sweep:
     """Run every spec in OpenFOAM, one case at a time; write `workdir/<spec.name>.csv` for each.
 
-    Each run is a case `workdir/<name>.case` from the template (`write_case`), meshed by blockMesh
+    Each run is a case `<scratch>/<name>.case` from the template (`write_case`), meshed by blockMesh
     and run by the solver (`executable`), both as argument lists with OpenFOAM's environment
     (`foam_environment`) and a time limit (`engines.engine_process.time_limit` of that run, at least
     `timeout_floor_s`), its output converted to the study's dump (`case_rows`, `write_run_dump`),
-    and the case folder removed (~0.2 GB at 1 400 steps).
+    and the case folder removed (~29 MB of a tmpfs per 200 steps). The cases run in one scratch
+    folder the sweep makes and always removes (`scratch_folder`: a tmpfs when one is writable and
+    holds the longest run's case, else inside `workdir`); each run's log
+    (`workdir/<name>.openfoam.log`, the solver's own) ends with a line naming it. Only where the
+    case folders are changes, never a number: the dumps are the same,
+    byte for byte (tests/test_engine_openfoam.py).
 
     Raises
     ------
@@ -437,18 +507,22 @@ def run_openfoam(specs: list[RunSpec], workdir, executable: str = SOLVER,
     workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     sweep, started = Sweep(), time.monotonic()
-    for spec, run in zip(specs, runs):
-        (workdir / f"{spec.name}.csv").unlink(missing_ok=True)
-        case = workdir / f"{spec.name}.case"
-        sweep.finish(spec, lambda: _run_one(spec, run, case, workdir, exe, mesher, timeout_floor_s))
-        remove_case(case, workdir)
+    need = max(s.steps() for s in specs) * TMPFS_BYTES_PER_STEP if specs else 0
+    with scratch_folder(workdir, need) as (scratch, where):
+        for spec, run in zip(specs, runs):
+            (workdir / f"{spec.name}.csv").unlink(missing_ok=True)
+            case = scratch / f"{spec.name}.case"
+            note = f"hertz study: case folder {case} ({where}), removed after the run\n"
+            sweep.finish(spec, lambda: _run_one(spec, run, case, workdir, exe, mesher, timeout_floor_s, note))
+            remove_case(case, scratch)  # at once: a long sweep holds one case in RAM, not all of them
     sweep.engine_seconds = time.monotonic() - started
     return sweep
 
 
 def _run_one(spec: RunSpec, run: FoamRun, case: Path, workdir: Path, exe: str, mesher: str,
-             timeout_floor_s: float) -> Path:
-    """Write, mesh, run and convert one case; its dump's path, or EngineRunFailed."""
+             timeout_floor_s: float, note: str = "") -> Path:
+    """Write, mesh, run and convert one case; its dump's path, or EngineRunFailed. `note` (where the
+    case ran) is appended to the run's log, which stays in `workdir` beside the dump."""
     write_case(run, case)
     limit = time_limit("openfoam", [spec], timeout_floor_s)
     log = workdir / f"{spec.name}.openfoam.log"
@@ -456,6 +530,8 @@ def _run_one(spec: RunSpec, run: FoamRun, case: Path, workdir: Path, exe: str, m
         step_log = case / f"log.{name}"
         done = run_logged(cmd, step_log, limit, cwd=workdir, env=foam_environment())
         shutil.copyfile(step_log, log)  # the case folder goes; its last log stays beside the dump
+        with log.open("a") as out:
+            out.write(note)
         if done.timed_out or done.returncode != 0:
             stop = (f"{name} did not finish within its time limit of {limit:.3g} s and was killed" if done.timed_out
                     else f"{name} exited with {describe_exit(done.returncode)}")

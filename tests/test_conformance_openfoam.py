@@ -126,15 +126,33 @@ def test_a_plan_whose_run_names_a_path_outside_its_folder_is_refused_and_nothing
     assert (victim / "keep.txt").read_text() == "mine" and not (plan_dir / "openfoam").exists()
 
 
+def assert_scratch_gone(printed: str, plan_dir: Path, steps: int) -> Path:
+    """`dumps` said where its cases ran (its first line): /dev/shm when that tmpfs holds the longest
+    run's case (`engines.openfoam.TMPFS_BYTES_PER_STEP` a step; a container's may not), else the
+    plan's folder; that scratch folder is gone. Its path."""
+    from engines import openfoam as engine
+
+    first = printed.splitlines()[0]
+    scratch = Path(first.split()[2])
+    shm = Path("/dev/shm")
+    if shm.is_dir() and engine.room(shm) >= steps * engine.TMPFS_BYTES_PER_STEP:
+        assert "(tmpfs /dev/shm)" in first and scratch.parent == shm, first
+    else:
+        assert "(work folder)" in first and scratch.parent == plan_dir, first
+    assert scratch.name.startswith(engine.SCRATCH_PREFIX) and not scratch.exists()
+    return scratch
+
+
 def test_openfoam_runs_the_kits_plan_and_passes(runs_engine, tmp_path):
     """OpenFOAM v1912 through the kit (issue "Any code"; CI installs it: make openfoam): the plan of
     alpha = 0.3 (steel on a plane, K = 0.1: one ladder of four runs) run by OpenFOAM's own
     icoUncoupledKinematicParcelFoam, converted to the study's dumps, gates PASS against its own
-    equation at the study's tolerances. Its control, the same plan run with OpenFOAM told
-    alpha x 1.001, FAILs 0 of 6 checks (docs/conformance.md, measured by hand: not run here, as it
-    doubles the ~3 min of writing every step's time folder; the kit's FAIL path is tested on an
-    integrator of the test's own, tests/test_conformance.py, and on LAMMPS)."""
-    import shutil
+    equation at the study's tolerances. The four runs go through `dumps` (each case on a tmpfs,
+    removed after its dump); the shortest also through `cases`, `run` and `convert` (its case in the
+    plan's folder, on the disk): the two dumps are the same, byte for byte. Its control, the same
+    plan run with OpenFOAM told alpha x 1.001, FAILs 0 of 6 checks (docs/conformance.md, measured by
+    hand: not run here; the kit's FAIL path is tested on an integrator of the test's own,
+    tests/test_conformance.py, and on LAMMPS)."""
     import sys
 
     import processes
@@ -151,11 +169,48 @@ def test_openfoam_runs_the_kits_plan_and_passes(runs_engine, tmp_path):
     assert len(runs) == 4 and {r["geometry"] for r in runs} == {"sphere-plane"}
     for run in runs:
         assert math.isclose(of.alpha_of(run), ALPHA, rel_tol=1e-9)
-        for action in ("cases", "run", "convert"):  # one run at a time: its time folders are ~0.2 GB
-            done = processes.run([sys.executable, "-m", "conformance.openfoam", action, str(out), "--only",
-                                  run["name"]], capture_output=True, text=True, timeout=900)
-            assert done.returncode == 0, done.stdout + done.stderr
-        shutil.rmtree(out / "openfoam" / run["name"])
+
+    def kit(action, *more):
+        done = processes.run([sys.executable, "-m", "conformance.openfoam", action, str(out), *more],
+                             capture_output=True, text=True, timeout=900)
+        assert done.returncode == 0, done.stdout + done.stderr
+        return done.stdout
+
+    shortest = min(runs, key=lambda r: r["steps"])["name"]
+    for action in ("cases", "run", "convert"):  # the three steps, the case in plan/openfoam/ (disk)
+        kit(action, "--only", shortest)
+    by_steps = (out / "dumps" / f"{shortest}.csv").read_bytes()
+    printed = kit("dumps")
+    assert (out / "dumps" / f"{shortest}.csv").read_bytes() == by_steps
+    assert len(list((out / "dumps").glob("*.csv"))) == 4
+    assert_scratch_gone(printed, out, max(r["steps"] for r in runs))
     code = main(["gate", str(out), "--no-plots"])
     verdict = json.loads((out / "verdict.json").read_text())
     assert (code, verdict["verdict"], verdict["failed"]) == (0, "PASS", 0), verdict
+
+
+def test_a_failing_run_of_dumps_keeps_its_log_and_leaves_no_scratch(plan_folder, tmp_path, runs_engine):
+    """`dumps` with a plan whose run OpenFOAM cannot run (its dt NaN: blockMesh stops with a FATAL IO
+    ERROR on controlDict's deltaT 'nan'): exit 1 naming the run's case and log, the log copied beside
+    the plan (keeping OpenFOAM's error), no dump, and the scratch folder gone from /dev/shm."""
+    import shutil
+    import sys
+
+    import processes
+    from engine_cases import require_engine
+
+    require_engine(of.SOLVER, "openfoam")
+    out = tmp_path / "plan"
+    shutil.copytree(plan_folder, out)
+    plan = json.loads((out / "plan.json").read_text())
+    plan["runs"] = plan["runs"][:1]
+    plan["runs"][0]["dt_s"] = math.nan  # json writes and reads NaN
+    (out / "plan.json").write_text(json.dumps(plan))
+    name = plan["runs"][0]["name"]
+    done = processes.run([sys.executable, "-m", "conformance.openfoam", "dumps", str(out)],
+                         capture_output=True, text=True, timeout=300)
+    assert done.returncode == 1, done.stdout + done.stderr
+    scratch = assert_scratch_gone(done.stdout, out, plan["runs"][0]["steps"])
+    assert f"{scratch / name}: blockMesh failed (exit 1), see log.blockMesh" in done.stderr
+    assert "deltaT" in (out / f"openfoam-{name}.log.blockMesh").read_text()
+    assert not (out / "dumps" / f"{name}.csv").exists()

@@ -6,19 +6,24 @@ plan (`engines.plan.plan_runs`, steel, K = 0.1): the law ``default`` (keyword ``
 told alpha(e) for the viscoelastic reference eps at K = 0.1) between two spheres, and ``elastic``
 (alpha = 0) on the plane. Their dumps go through the study's own gate (`analysis.comparison`,
 `analysis.extrapolation`, `verdict.gate`) at the study's tolerances (1e-6 relative on T, A and eps,
-|error| + resolution): PASS, every check. Measured here (2 shared cores, load 10-13): 7 runs, 6 184 steps
-in 581 s and 798 s wall, 93.8 s of OpenFOAM's CPU (15 ms a step, most of it writing time folders);
-errors of the limits (resolution): keyword T 1.6e-9 (2.9e-7), A 6.4e-9 (2.5e-7), eps 7.2e-9 (1e-8);
-elastic T 2.1e-10 (1e-8), A 1.7e-10 (2.4e-8), eps 9.2e-10 (1e-8). On idle cores the sweep costs about
-its CPU, ~1.5 min (the fixture prints wall and CPU).
+|error| + resolution): PASS, every check. Measured here (2 shared cores): 7 runs, 6 184 steps in 57 s
+wall, 12.4 s of OpenFOAM's CPU (2.0 ms a step) at load 7, its cases on a tmpfs; 523 s wall and 104 s
+of CPU at load 14 with its cases on the disk, as before (the fixture prints wall and CPU); errors of
+the limits (resolution): keyword T 1.6e-9 (2.9e-7), A 6.4e-9 (2.5e-7), eps 7.2e-9 (1e-8); elastic
+T 2.1e-10 (1e-8), A 1.7e-10 (2.4e-8), eps 9.2e-10 (1e-8).
+
+The cases run in a scratch folder of the sweep's own on a tmpfs (`openfoam.scratch_folder`); the
+same run on the disk (no tmpfs: the work folder) writes the same dump, byte for byte.
 
 Its failure paths: a law OpenFOAM cannot express and a run name that is no plain file name are
 refused before anything starts (nothing outside the work folder removed); a run whose solver fails
-(a case template with a broken dictionary) fails alone, naming its log, and leaves no dump.
+(a case template with a broken dictionary) or that reaches its time limit fails alone, naming its
+log, and leaves no dump and no scratch folder (in /dev/shm or the work folder).
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import resource
 import time
@@ -147,3 +152,67 @@ def test_a_solver_that_fails_fails_that_run_alone_and_names_its_log(tmp_path, mo
         sweep.raise_first()
     assert "deltaT" in Path(failed.value.log_path).read_text()
     assert not (work / f"{spec.name}.csv").exists() and not (work / f"{spec.name}.case").exists()
+    assert_no_scratch_left(Path(failed.value.log_path), work)
+
+
+def own_scratch_folders() -> list[Path]:
+    """The scratch folders of this process's sweeps still in the tmpfs (their names carry its pid)."""
+    return [p for parent in openfoam.SCRATCH_PARENTS
+            for p in parent.glob(f"{openfoam.SCRATCH_PREFIX}{os.getpid()}-*")]
+
+
+def assert_no_scratch_left(log: Path, work: Path) -> None:
+    """The run's log names its case folder in the tmpfs; that folder's scratch folder is gone, and no
+    other of this process's is left there or in the work folder."""
+    note = log.read_text().splitlines()[-1]
+    assert note.startswith("hertz study: case folder ") and "(tmpfs /dev/shm)" in note, note
+    case = Path(note.split()[4])
+    assert case.parent.parent == Path("/dev/shm") and case.parent.name.startswith(openfoam.SCRATCH_PREFIX)
+    assert not case.parent.exists() and not own_scratch_folders()
+    assert not list(work.glob(f"{openfoam.SCRATCH_PREFIX}*"))
+
+
+def test_a_run_stopped_at_its_time_limit_fails_alone_and_leaves_no_scratch(tmp_path, monkeypatch, runs_engine):
+    """A limit of 0.2 s (the module's `time_limit`, replaced: the real limit of a run is a minute or
+    more): blockMesh or the solver is killed, the run fails saying so, naming its log; nothing stays."""
+    require_openfoam()
+    monkeypatch.setattr(openfoam, "time_limit", lambda *args: 0.2)
+    spec = RunSpec("steel", "openfoam", "elastic", steel_pair("sphere-plane"), 1.0, time_step_factor=125)
+    work = tmp_path / "work"
+    sweep = openfoam.run_openfoam([spec], work)
+    with pytest.raises(EngineRunFailed, match=r"did not finish within its time limit of 0.2 s") as failed:
+        sweep.raise_first()
+    assert not (work / f"{spec.name}.csv").exists()
+    assert_no_scratch_left(Path(failed.value.log_path), work)
+
+
+def test_the_scratch_folder_goes_on_an_error_and_falls_back_to_the_work_folder(tmp_path, monkeypatch):
+    """`scratch_folder` makes its own folder (mode 0700) in the tmpfs, else in the work folder when no
+    tmpfs is writable or has the room asked, and removes it, its contents too, when the block raises."""
+    with pytest.raises(RuntimeError, match="in the middle"):
+        with openfoam.scratch_folder(tmp_path) as (scratch, where):
+            assert where == "tmpfs /dev/shm" and scratch.parent == Path("/dev/shm")
+            assert scratch.stat().st_mode & 0o777 == 0o700
+            (scratch / "a.case" / "0").mkdir(parents=True)
+            raise RuntimeError("in the middle")
+    assert not scratch.exists()
+    with openfoam.scratch_folder(tmp_path, need_bytes=10**18) as (scratch, where):  # no tmpfs holds an exabyte
+        assert where == "work folder" and scratch.parent == tmp_path
+    assert not scratch.exists()
+    monkeypatch.setattr(openfoam, "SCRATCH_PARENTS", (tmp_path / "no-tmpfs",))
+    with openfoam.scratch_folder(tmp_path) as (scratch, where):
+        assert where == "work folder" and scratch.parent == tmp_path
+    assert not scratch.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_a_run_on_the_disk_writes_the_same_dump_byte_for_byte(ladders, tmp_path, monkeypatch):
+    """The plane's shortest rung again with no tmpfs (its cases in the work folder, on the disk, as
+    before the scratch folder): its dump is the tmpfs run's, byte for byte (sha256)."""
+    spec, dump = min((v for v in ladders.values() if v[0].pair.geometry == "sphere-plane"),
+                     key=lambda v: v[0].steps())
+    monkeypatch.setattr(openfoam, "SCRATCH_PARENTS", ())
+    work = tmp_path / "disk"
+    on_disk = openfoam.run_openfoam([spec], work).raise_first().dumps[spec.name]
+    assert "(work folder)" in (work / f"{spec.name}.openfoam.log").read_text()
+    assert hashlib.sha256(on_disk.read_bytes()).hexdigest() == hashlib.sha256(dump.read_bytes()).hexdigest()
+    assert sorted(work.iterdir()) == sorted([on_disk, work / f"{spec.name}.openfoam.log"])  # no scratch left
