@@ -40,7 +40,7 @@ import numpy as np
 import pandas as pd
 
 from contact_model.effective import effective_shear_modulus
-from contact_model.tangential_models import form_of
+from contact_model.tangential_models import form_of, stiffness_constant
 from engines.ladder import RESOLUTION_FLOOR, extrapolate
 from records.dump_file import DumpError, read_dump
 from records.oblique_metrics import oblique_metrics
@@ -110,7 +110,8 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
         The run (any rung of its ladder: the reference does not depend on dt).
     tangential_stiffness : float, optional
         k_t [N/m] of a linear tangential spring (the dump's ``tangential_stiffness``); Mindlin's
-        k_t0 = 8 G* follows from the bodies.
+        k_t0 follows from the bodies: 8 G*, or the model's own rule
+        (`contact_model.tangential_models.stiffness_constant`: ESyS's (16/3) G of E*).
 
     Returns
     -------
@@ -128,7 +129,8 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
     r = solve_oblique(geometry=p.geometry, R1=b1.radius, m1=b1.mass, R2=b2.radius, m2=b2.mass, E_star=p.E,
                       G_star=G_star, R_star=p.R, M_star=p.M, eta=p.eta, clipped=run.law == "viscoelastic_clipped",
                       mu=run.friction, form=form, v_n=v_n, v_t=v_t, w1=v["w1"],
-                      k_t0=tangential_stiffness if form.stiffness == "linear" else None, x_t=run.damping_ratio)
+                      k_t0=tangential_stiffness if form.stiffness == "linear" else stiffness_constant(run.model, p),
+                      x_t=run.damping_ratio)
     out = {"T": r.T, "eps": r.eps, "delta_max": r.delta_max, "F_max": r.F_max, "vt_after": r.vt_after - r.vt2_after,
            "omega_after": r.omega_after, "e_t": r.e_t, "rebound_angle": r.rebound_angle, "Ft_max": r.Ft_max,
            "slip_before": v_t + b1.radius * v["w1"],

@@ -40,7 +40,9 @@ QUANTITIES = ("e_t", "omega_after", "rebound_angle")
 THRESHOLDS = (0.01, 0.05)
 #: Models the comparison leaves out, and why (their k_t0 is the user's kt, not Mindlin's 8 G*).
 USER_STIFFNESS = {"lammps:linear_history": "a constant k_t given by the user (not Mindlin's 8 G* a)",
-                  "lammps:hertz/history": "k_t0 is the user's kt (NULL: 2 k_n/7), not Mindlin's 8 G*"}
+                  "lammps:hertz/history": "k_t0 is the user's kt (NULL: 2 k_n/7), not Mindlin's 8 G*",
+                  "esys:hertz_mindlin": "k_t0 is (16/3) G of E* (1.25 x 8 G* at nu = 0.23), not Mindlin's 8 G*, and "
+                                        "it applies no torque (docs/tangential.md)"}
 
 
 def plane_arguments(case, velocity: float, angle: float) -> dict:

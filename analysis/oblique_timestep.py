@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact_model.effective import effective_shear_modulus
-from contact_model.tangential_models import TANGENTIAL_MODELS, NoReference, form_of
+from contact_model.tangential_models import TANGENTIAL_MODELS, NoReference, form_of, stiffness_constant
 from engines.oblique_plan import normal_law
 from reference import solve_oblique
 
@@ -168,7 +168,8 @@ def oblique_step(case, model: str, impact_index: int = 0, law: str | None = None
     b1, b2 = pair.body_1, pair.body_2
     arguments = dict(geometry=geometry, R1=b1.radius, m1=b1.mass, E_star=pair.E,
                      G_star=effective_shear_modulus(b1, b2), R_star=pair.R, eta=pair.eta,
-                     clipped=law == "viscoelastic_clipped", mu=case.friction, form=form, v_n=v_n, v_t=v_t, w1=w1)
+                     clipped=law == "viscoelastic_clipped", mu=case.friction, form=form, v_n=v_n, v_t=v_t, w1=w1,
+                     k_t0=stiffness_constant(model, pair))
     r = solve_oblique(R2=math.inf, m2=math.inf, M_star=pair.M, **arguments)
     reference = {"T": r.T, "eps": r.eps, "vt_after": r.vt_after - r.vt2_after, "omega_after": r.omega_after,
                  "e_t": r.e_t, "rebound_angle": r.rebound_angle, "slip_before": v_t + b1.radius * w1,

@@ -178,6 +178,48 @@ def form_of(name: str, geometry: str) -> TangentialForm:
         raise NoReference(f"{name} ({geometry}) is not a form of the reference yet: {err}") from None
 
 
+#: The rules of a registry block's optional ``k_t0_rule`` (Mindlin's k_t0 [Pa] the reference takes).
+K_T0_RULES = ("8G*", "16G/3 of E*")
+
+
+def stiffness_constant(name: str, pair) -> float | None:
+    r"""The Mindlin constant k_t0 [Pa] of model `name` in `pair`'s contact, as its own equations have it,
+    or None for Mindlin's 8 G* (the reference's default; also for a linear stiffness, whose k_t [N/m]
+    the deck gives).
+
+    ``k_t0_rule: "16G/3 of E*"`` (ESyS's HertzMindlin, whose deck writes E = E*):
+
+    .. math:: k_{t0} = \frac{16}{3} \frac{E^*}{2 (1 + \nu)}
+
+    with nu the bodies' one Poisson's ratio (ESyS's interaction takes one).
+
+    Parameters
+    ----------
+    name : str
+        A registry key.
+    pair : contact_model.ContactPair
+        The contact (its E* [Pa] and bodies' Poisson's ratios).
+
+    Raises
+    ------
+    ValueError
+        Naming the registry file and field: an unknown rule, or bodies of two Poisson's ratios for a
+        rule that takes one.
+    """
+    block = TANGENTIAL_MODELS[name].blocks[pair.geometry]
+    rule = block.get("k_t0_rule", "8G*")
+    if rule not in K_T0_RULES:
+        raise ValueError(f"{REGISTRY_PATH}: {name}.k_t0_rule must be one of {K_T0_RULES}, got {rule!r}")
+    if rule == "8G*":
+        return None
+    nus = {b.poisson for b in (pair.body_1, pair.body_2)}
+    if len(nus) != 1 or None in nus:
+        raise ValueError(f"{REGISTRY_PATH}: {name}.k_t0_rule {rule!r} takes one Poisson's ratio; the bodies have "
+                         f"{pair.body_1.poisson!r} and {pair.body_2.poisson!r}")
+    (nu,) = nus
+    return 16.0 / 3.0 * pair.E / (2.0 * (1.0 + nu))
+
+
 def models_for(code: str, banner: str) -> tuple[list[TangentialModel], dict[str, str]]:
     """The in-scope models of `code` that the release named by `banner` has, and {name: why} of
     those it lacks.

@@ -252,6 +252,10 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         install_hint="install Debian's build with `sudo apt-get install esys-particle` (or `make engines`)",
         parameters=model_to_engine.esys_hertzian_viscoelastic,
         driver="engines.esys:run_esys", decks=("cases/decks/esys/*.py",),
+        oblique_driver="engines.esys_oblique:run_esys_oblique_sweep",
+        oblique_unavailable={law: "ESyS's HertzMindlin (the oblique deck's interaction) has no normal damping: "
+                                  "oblique runs are elastic only (engines/esys_oblique.py)"
+                             for law in ("viscoelastic", "viscoelastic_clipped")},
         default_law="`HertzMindlinViscoPrms` with its restitution coefficient",
         processes=2,  # mpirun -np 2: a master and a worker, both busy during a sweep
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=500e-6),

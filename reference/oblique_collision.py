@@ -176,7 +176,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
-from .tangential_forms import TangentialForm, lever_share
+from .tangential_forms import TangentialForm, lever_base, lever_share
 
 RTOL = 1e-12
 ATOL = 1e-14
@@ -275,6 +275,12 @@ class _Model:
         f = self.form
         self.c_k = 1.0 if (f.history == "displacement" and f.stiffness == "mindlin") else 0.0
         self.sh1s, self.sh1t = lever_share(f.lever_slip), lever_share(f.lever_torque)
+        # the arms are L = b R - s delta: b = 0 where the spins never enter the slip, or the force applies
+        # no torque (lever "none", ESyS's HertzMindlin); b = 1 otherwise (1.0 R is R bitwise)
+        self.b_s, self.b_t = lever_base(f.lever_slip), lever_base(f.lever_torque)
+        # the slip the model itself sees at touching (its history's source): the contact point's
+        # v_s0 unless the spins do not enter it; e_t stays the contact point's v_s'/v_s0
+        self.v_slip0 = self.v_s0 if self.b_s else self.v_t
         # a plane does not move: its inverse mass and inertia are zero, and so are its arms' terms
         # after the normal force's zero the cap stays 0 to the end: clipped, or clipped in the cap
         # (the unclipped force stays negative once it has crossed zero on the way out)
@@ -321,8 +327,8 @@ class _Model:
             F_c = F_el_n
         cap = math.inf if self.mu == math.inf else self.mu * F_c  # mu = inf: no cap, not inf * 0
         k_t = self.k_t0 * a if f.stiffness == "mindlin" else self.k_t0
-        L1s, L1t = self.R1 - self.sh1s * d, self.R1 - self.sh1t * d
-        L2s, L2t = self.R2 - self.sh1s * d, self.R2 - self.sh1t * d
+        L1s, L1t = self.b_s * self.R1 - self.sh1s * d, self.b_t * self.R1 - self.sh1t * d
+        L2s, L2t = self.b_s * self.R2 - self.sh1s * d, self.b_t * self.R2 - self.sh1t * d
         if self.plane:
             L2s = L2t = 0.0
         alpha = 1.0  # YADE's anti-ratcheting factor on the translational slip (two spheres)
@@ -448,7 +454,7 @@ class _Model:
     def first_phase(self) -> tuple[bool, float]:
         """(sliding, s) at touching: the limit t -> 0 of |X|/C along the sticking motion."""
         t0 = T_START * self.t_e
-        v_s0 = self.v_s0
+        v_s0 = self.v_slip0
         if v_s0 == 0.0:
             return False, 0.0
         if self.form.history == "displacement":

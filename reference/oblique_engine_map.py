@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from .tangential_forms import TangentialForm, lever_share
+from .tangential_forms import TangentialForm, lever_base, lever_share
 
 #: The codes of `TangentialForm.cap_normal` and `TangentialForm.damping` in the compiled loop.
 _CAP_NORMAL = {"total_abs": 0, "total_clipped": 1, "elastic": 2}
@@ -88,12 +88,14 @@ def _advance(p, flags, start, max_steps):
     """The map's steps from overlap `start` [m] to the overlap's return (see the module docstring).
 
     p: m, I, R, k_n, c_eta (2 eta sqrt(R*)), sqrt(R*), k_t0, x_t, mu, dt, v_n, v_t, w1, share_slip,
-    share_torque; flags: clipped, force history, mindlin stiffness, rescale, total cap, cap_normal
-    code, damping code. Returns (steps, t_exit, t_F0, v_n', v_y', w') with t from the start [s]
+    share_torque, base_slip, base_torque (the arms b R - s delta, `reference.tangential_forms.lever`);
+    flags: clipped, force history, mindlin stiffness, rescale, total cap, cap_normal code, damping code.
+    Returns (steps, t_exit, t_F0, v_n', v_y', w') with t from the start [s]
     (t_F0 < 0: the unclipped force did not fall to zero while in contact); steps = -1 where the
     overlap did not return within `max_steps`."""
     m, I, R, kn, c_eta, sqrt_rs, kt0, x_t, mu, dt, vn, vy, w, sh_s, sh_t = (
         p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14])
+    R_s, R_t = p[15] * R, p[16] * R  # b R: R, or 0 where the arm is "none"
     clipped, hist_force, mindlin, rescale, cap_total, cap_normal, damping = (
         flags[0], flags[1], flags[2], flags[3], flags[4], flags[5], flags[6])
     d = start
@@ -102,7 +104,7 @@ def _advance(p, flags, start, max_steps):
     a_prev = 0.0
     Fn = 0.0
     Ft = 0.0
-    arm_t = R
+    arm_t = R_t
     touched = False
     f_prev = 0.0
     t_f0 = -1.0
@@ -138,7 +140,7 @@ def _advance(p, flags, start, max_steps):
         else:
             Fc = Fe
         kt = kt0 * a if mindlin else kt0
-        vs = vy + (R - sh_s * d) * w
+        vs = vy + (R_s - sh_s * d) * w
         if rescale and a < a_prev:
             H *= a / a_prev
         a_prev = a
@@ -163,7 +165,7 @@ def _advance(p, flags, start, max_steps):
             F_el = math.copysign(cap, F_el)
             Ft = F_el - (0.0 if damping == 2 else eta_t) * vs
             H = F_el if hist_force else -F_el / kt
-        arm_t = R - sh_t * d
+        arm_t = R_t - sh_t * d
         # second half kick
         v -= Fn / m * dt * 0.5
         vy += Ft / m * dt * 0.5
@@ -250,7 +252,8 @@ def oblique_map(*, geometry: str = "sphere-plane", R1: float, m1: float, E_star:
     I1 = 0.4 * m1 * R1 * R1 if I1 is None else I1
     k_n = 4.0 / 3.0 * E_star * math.sqrt(R_star)
     p = np.array([m1, I1, R1, k_n, 2.0 * eta * math.sqrt(R_star), math.sqrt(R_star), k_t0, x_t, mu, dt, v_n, v_t,
-                  w1, lever_share(form.lever_slip), lever_share(form.lever_torque)], dtype=np.float64)
+                  w1, lever_share(form.lever_slip), lever_share(form.lever_torque), lever_base(form.lever_slip),
+                  lever_base(form.lever_torque)], dtype=np.float64)
     flags = np.array([clipped, form.history == "force", form.stiffness == "mindlin", form.rescale,
                       form.cap == "total", _CAP_NORMAL[form.cap_normal], _DAMPING[form.damping]], dtype=np.int64)
     touch = (gap_steps + start_phase) * dt

@@ -30,7 +30,7 @@ STIFFNESSES = ("mindlin", "linear")
 CAPS = ("total", "elastic")
 CAP_NORMALS = ("total_abs", "total_clipped", "elastic")
 DAMPINGS = ("none", "normal_xt", "stick_only")
-LEVERS = ("R", "R-delta/2", "R-delta")
+LEVERS = ("R", "R-delta/2", "R-delta", "none")
 
 
 @dataclass(frozen=True)
@@ -71,9 +71,12 @@ class TangentialForm:
     lever_slip : str
         The arm [m] of each sphere in the contact point's velocity, v_s = (v_1 + L_1 w_1) -
         (v_2 - L_2 w_2): ``"R"``, ``"R-delta/2"`` or ``"R-delta"`` (its radius less that much of
-        the overlap [m]).
+        the overlap [m]), or ``"none"``: L = 0, the spins never enter the slip, v_s = v_1 - v_2
+        (ESyS's HertzMindlin, whose slip is the centres' relative velocity alone).
     lever_torque : str
-        The arm [m] of each sphere in its torque, tau_i = L_i F_t [N m] about +z (same choices).
+        The arm [m] of each sphere in its torque, tau_i = L_i F_t [N m] about +z (same choices;
+        ``"none"``: L = 0, the force applies no torque and the spins stay as they were, ESyS's
+        HertzMindlin).
     anti_ratcheting : bool
         True: the translational part of the slip velocity is multiplied by alpha = (R1 + R2) /
         (R1 + R2 - delta), v_s = alpha (v_1 - v_2).t + L_1 w_1 + L_2 w_2 (YADE's
@@ -103,12 +106,14 @@ class TangentialForm:
 
 
 def lever(choice: str, R: float, delta: float) -> float:
-    """The arm of a sphere at the contact point [m]: R, R - delta/2 or R - delta.
+    """The arm of a sphere at the contact point [m]: L = b R - s delta with b = `lever_base` and
+    s = `lever_share`: R, R - delta/2, R - delta, or 0 (``"none"``).
 
     Parameters
     ----------
     choice : str
-        ``"R"``, ``"R-delta/2"`` or ``"R-delta"`` (`TangentialForm.lever_slip`, `lever_torque`).
+        ``"R"``, ``"R-delta/2"``, ``"R-delta"`` or ``"none"`` (`TangentialForm.lever_slip`,
+        `lever_torque`).
     R : float
         The sphere's radius [m].
     delta : float
@@ -119,23 +124,43 @@ def lever(choice: str, R: float, delta: float) -> float:
     float
         The arm [m].
     """
-    return R - lever_share(choice) * delta
+    return lever_base(choice) * R - lever_share(choice) * delta
 
 
 def lever_share(choice: str) -> float:
-    """The share s of the overlap an arm loses, L = R - s delta [-]: 0, 1/2 or 1.
+    """The share s of the overlap an arm loses, L = b R - s delta [-]: 0, 1/2, 1, or 0 for
+    ``"none"`` (no arm: it loses nothing, and dL/dt = -s d(delta)/dt = 0).
 
     Parameters
     ----------
     choice : str
-        ``"R"``, ``"R-delta/2"`` or ``"R-delta"``.
+        ``"R"``, ``"R-delta/2"``, ``"R-delta"`` or ``"none"``.
 
     Returns
     -------
     float
-        0, 0.5 or 1.
+        0, 0.5, 1 or 0.
     """
-    return {"R": 0.0, "R-delta/2": 0.5, "R-delta": 1.0}[choice]
+    return {"R": 0.0, "R-delta/2": 0.5, "R-delta": 1.0, "none": 0.0}[choice]
+
+
+def lever_base(choice: str) -> float:
+    """The share b of the radius an arm keeps, L = b R - s delta [-]: 1, or 0 for ``"none"`` (the
+    spins do not enter the slip, or the force applies no torque: ESyS's HertzMindlin).
+
+    Parameters
+    ----------
+    choice : str
+        ``"R"``, ``"R-delta/2"``, ``"R-delta"`` or ``"none"``.
+
+    Returns
+    -------
+    float
+        1 or 0 (exactly: b R = R bitwise for the arms of R).
+    """
+    if choice not in LEVERS:
+        raise ValueError(f"a lever arm is one of {LEVERS}, got {choice!r}")
+    return 0.0 if choice == "none" else 1.0
 
 
 def stiffness(form: TangentialForm, k_t0: float, a: float) -> float:

@@ -66,6 +66,18 @@ def conformance_matrix(checks: pd.DataFrame) -> pd.DataFrame:
     return table.reset_index().pivot(index=["model", "geometry"], columns="build", values="cell").fillna("n/a")
 
 
+def torque_note(model: str) -> str:
+    """What the rigid-body table says beside a model whose force applies no torque (its form's
+    ``lever_torque`` "none": ESyS's HertzMindlin): its w' stays w0, so (w' - rigid) is the declared
+    defect's size, never a pass; '' for the others (and for a model the registry does not know)."""
+    from contact_model.tangential_models import TANGENTIAL_MODELS
+
+    entry = TANGENTIAL_MODELS.get(model)
+    if entry is None or all(block.get("lever_torque") != "none" for block in entry.blocks.values()):
+        return ""
+    return "KNOWN DEFECT: the force applies no torque (w' = w0), contact_model/tangential_models.yaml"
+
+
 def rigid_line(limits: pd.DataFrame, q: str) -> pd.Series:
     """The rigid-body gross-sliding value of `q` (e_t, omega_after or rebound_angle) at every limit
     row (`reference.rigid_body_sliding`, arms R, solid spheres, with the row's normal restitution):
@@ -255,7 +267,8 @@ def write_oblique_report(summary: pd.DataFrame, limits: pd.DataFrame, checks: pd
                               "angle [deg]": g.angle.map(lambda a: f"{a:.4g}"),
                               "(vt' - rigid) / V": ((g.vt_after - g.rigid_vt_after) / V).map(lambda x: f"{x:.2e}"),
                               "(w' - rigid) R / V": ((g.omega_after - g.rigid_omega_after) * g.radius_1 / V).map(
-                                  lambda x: f"{x:.2e}")})
+                                  lambda x: f"{x:.2e}"),
+                              "note": g.model.map(torque_note)})
         lines += [_md_table(table), ""]
     if figures:
         lines += ["## Against incidence (Chung & Ooi's test 4)", ""]
