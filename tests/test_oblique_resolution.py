@@ -121,3 +121,44 @@ def test_rungs_from_t_e_over_16000_to_256000_pass_every_check(ladders):
     checks = oblique_checks(limit_rows(fine), TOLERANCE)
     assert len(checks) == 14 and (checks.status == "PASS").all(), checks[checks.status != "PASS"]
     assert checks.resolution.max() < 3e-8 and math.isfinite(checks.error.abs().max())
+
+
+def _config():
+    import yaml
+
+    return yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())["oblique"]
+
+
+def test_config_gives_the_slow_impacts_their_finer_ladder_as_data():
+    from contact_model import load_case
+    from engines.oblique_plan import oblique_plan
+
+    o = _config()
+    case = load_case(Path(__file__).resolve().parents[1] / "cases" / "oblique" / "chung_ooi_test5.yaml")
+    plan = oblique_plan([case], "yade", "yade-2025", "YADE 2025.2.0", o["ladder"], (1,), o["finer_ladders"])
+    by_angle = {}
+    for r in plan.runs:
+        by_angle.setdefault(round(r.contact_angle, 6), []).append(r.normal.time_step_factor)
+    assert by_angle[20.0] == [16000.0, 32000.0, 64000.0, 128000.0, 256000.0]
+    assert by_angle[5.0] == by_angle[15.0] == by_angle[20.0]
+    assert by_angle[10.0] == [float(f) for f in o["ladder"]] == by_angle[60.0]
+    # The displacement-history models keep the default rungs at 20 deg.
+    lammps = oblique_plan([case], "lammps", "lammps-2025", "LAMMPS (22 Jul 2025 - Update 4)", o["ladder"], (1,),
+                          o["finer_ladders"])
+    factors = {r.model: [] for r in lammps.runs}
+    for r in lammps.runs:
+        if round(r.contact_angle, 6) == 20.0:
+            factors[r.model].append(r.normal.time_step_factor)
+    assert factors["lammps:mindlin/force"][0] == 16000.0 and factors["lammps:mindlin"][0] == 1000.0
+
+
+@pytest.mark.parametrize("entry, field", [({"case": "chung_ooi_test5", "angles": [20.0]}, "case, angles and ladder"),
+                                          ({"case": "chung_ooi_test5", "angles": [20.0], "ladder": [16000, 0, 1]},
+                                           "finer_ladders[0].ladder"),
+                                          ({"case": "chung_ooi_test5", "angles": "20", "ladder": [1, 2, 3]},
+                                           "finer_ladders[0].angles")])
+def test_a_malformed_finer_ladder_is_refused_naming_the_field(entry, field):
+    from engines.oblique_plan import finer_ladder
+
+    with pytest.raises(ValueError, match=field.replace("[", r"\[").replace("]", r"\]")):
+        finer_ladder([entry], "chung_ooi_test5", 20.0, "yade:mindlin")
