@@ -6,7 +6,7 @@ provenance in the file's header).
 
 Measured there (docs/tangential.md, "The full set", finding 1): the rungs' order of e_t rises from 0.83
 to 0.98 between T_e/1000 and T_e/2048000; the Richardson limit of the finest five rungs is -1.8e-11
-(LAMMPS) and -7.0e-11 (YADE) for e_t, every tangential quantity within 2.3e-9 of 0. Over the default
+(LAMMPS) and -7.0e-11 (YADE) for e_t, every tangential quantity within 2e-9 of 0. Over the default
 rungs (T_e/1000 ... /16000) the gate used to claim e_t = +4.0e-6 +- 2.0e-6 and +4.9e-6 +- 1.6e-6 (an
 engine error where there is none); it now states +2.1e-5 +- 2.6e-5, unresolved.
 """
