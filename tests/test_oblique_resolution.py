@@ -162,3 +162,21 @@ def test_a_malformed_finer_ladder_is_refused_naming_the_field(entry, field):
 
     with pytest.raises(ValueError, match=field.replace("[", r"\[").replace("]", r"\]")):
         finer_ladder([entry], "chung_ooi_test5", 20.0, "yade:mindlin")
+
+
+def test_a_pass_of_test_6_at_20_deg_is_now_stated_unresolved():
+    # Test 6 at 20 deg, yade:mindlin (9 rungs to T_e/256000): the default rungs claimed e_t = -3.6e-7 +- 2.3e-7
+    # and passed, where the finest five rungs put the limit at +3e-10; the checked estimate bounds it.
+    rungs = pd.read_csv(DATA.with_name("chung_ooi_test6_20deg.csv"), comment="#").sort_values("h", ascending=False)
+    truth = extrapolate(rungs.h.to_numpy()[-5:], rungs.err_e_t.to_numpy()[-5:], OBLIQUE_POWERS)
+    assert abs(truth.value) < 1e-9
+    row = limit_rows(rungs[rungs.time_step_factor <= 16000]).iloc[0]
+    assert abs(row.err_e_t - truth.value) <= row.resolution_e_t
+    assert abs(row.err_e_t) + row.resolution_e_t > TOLERANCE and abs(row.err_e_t) <= row.resolution_e_t
+    # One rung finer (T_e/2000 ... /32000) it passes, and the PASS is true (the limit is 3e-10). Its
+    # resolution is not a guaranteed bound: e_t -2.5e-8 +- 2.0e-8 misses the limit by 1.3 x the resolution
+    # (measured; the one miss in the five windows of this ladder, far inside the tolerance). No estimate from
+    # a ladder alone is a bound (engines/ladder.py: the head-on one holds in 97 % of random series).
+    finer = limit_rows(rungs[(rungs.time_step_factor >= 2000) & (rungs.time_step_factor <= 32000)]).iloc[0]
+    assert abs(finer.err_e_t) + finer.resolution_e_t <= TOLERANCE
+    assert abs(finer.err_e_t - truth.value) <= 1.5 * finer.resolution_e_t
