@@ -41,7 +41,41 @@ def normal_law(case) -> str:
     return "elastic" if all(p.eta == 0 for p in case.pairs) else "viscoelastic"
 
 
-def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,)) -> ObliquePlan:
+def finer_ladder(entries, case: str, contact_angle: float, model: str):
+    """The time-step factors config ``oblique.finer_ladders`` gives an impact, or None.
+
+    Parameters
+    ----------
+    entries : sequence of dict
+        {case, angles, ladder, models?}: the case's name, the contact-point incidences [deg] of the
+        impacts (`ObliqueRun.contact_angle`, to 1e-6 deg), their factors (three or more, > 0), and
+        the tangential models they apply to (default: every model).
+    case, contact_angle, model
+        The impact's case name, incidence [deg] and tangential model.
+
+    Raises
+    ------
+    ValueError
+        An entry without its fields, naming the entry and the field.
+    """
+    for i, e in enumerate(entries or ()):
+        where = f"config oblique.finer_ladders[{i}]"
+        if not isinstance(e, dict) or not {"case", "angles", "ladder"} <= set(e):
+            raise ValueError(f"{where}: needs the fields case, angles and ladder, got {e!r}")
+        ladder = e["ladder"]
+        if not (isinstance(ladder, list) and len(ladder) >= 3
+                and all(isinstance(f, (int, float)) and f > 0 for f in ladder)):
+            raise ValueError(f"{where}.ladder: three or more positive time-step factors, got {ladder!r}")
+        if not (isinstance(e["angles"], list) and all(isinstance(a, (int, float)) for a in e["angles"])):
+            raise ValueError(f"{where}.angles: a list of incidences in degrees, got {e['angles']!r}")
+        if e["case"] != case or (e.get("models") is not None and model not in e["models"]):
+            continue
+        if any(abs(contact_angle - a) <= 1e-6 for a in e["angles"]):
+            return [float(f) for f in ladder]
+    return None
+
+
+def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,), finer=()) -> ObliquePlan:
     """The oblique runs of `build` (of engine `code`, whose version line is `banner`).
 
     Parameters
@@ -55,6 +89,10 @@ def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,))
     ranks : sequence of int
         The MPI process counts to run: 1, every rung of every ladder; 2, the coarsest rung of
         each again on two ranks (the processor-boundary check).
+    finer : sequence of dict
+        Config ``oblique.finer_ladders`` (`finer_ladder`): impacts whose ladder takes other factors
+        than `factors` (those whose default rungs are short of their asymptotic range: data, so
+        that the plan names them and the report costs them).
 
     Returns
     -------
@@ -81,10 +119,14 @@ def oblique_plan(cases, code: str, build: str, banner: str, factors, ranks=(1,))
                         plan.refused[(case.name, f"{model.name} ({pair.geometry})")] = (
                             f"{model.name} has no {pair.geometry} contact")
                         continue
+                    probe = ObliqueRun(RunSpec(case.name, code, law, pair, impact["normal_velocity"],
+                                               time_step_factor=float(factors[0]), build=build),
+                                       model.name, case.friction, impact["tangential_velocity"], impact["spin"])
+                    ladder = finer_ladder(finer, case.name, probe.contact_angle, model.name) or factors
                     for n in ranks:
                         # Two ranks check that crossing a processor boundary changes nothing (bitwise,
                         # `analysis.oblique.processor_boundary_checks`): one rung does, the coarsest.
-                        for f in (factors if n == 1 else factors[:1]):
+                        for f in (ladder if n == 1 else ladder[:1]):
                             normal = RunSpec(case.name, code, law, pair, impact["normal_velocity"],
                                              time_step_factor=float(f), build=build)
                             plan.runs.append(ObliqueRun(normal, model.name, case.friction,

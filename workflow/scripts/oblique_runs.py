@@ -20,7 +20,7 @@ factors = o["ladder"]
 # The processor boundary (two MPI ranks) is checked in the full set; the reduced one keeps to `all`'s budget.
 ranks = [1] if reduced else o.get("ranks", {}).get(build.code, [1])
 cases = [load_case(path) for path in snakemake.input.cases]
-plan = oblique_plan(cases, build.code, build.id, banner, factors, ranks)
+plan = oblique_plan(cases, build.code, build.id, banner, factors, ranks, o.get("finer_ladders", []))
 if reduced:  # `all`: the reduced set's impacts alone (config oblique.reduced.angles: of the contact point's slip)
     keep = set(o["reduced"]["angles"])
     plan.runs = [r for r in plan.runs if round(r.contact_angle, 6) in keep]
