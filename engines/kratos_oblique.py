@@ -7,16 +7,28 @@ OMP_NUM_THREADS=1, its time limit, its log, a failed run's error) with the obliq
 with rotation and Coulomb friction:
 
 - normal: F_n = (4/3) E* sqrt(R*) delta^{3/2} [N], E* from each body's own Young's modulus and Poisson's
-  ratio (the head-on driver's Y = 2 E*, nu = 0 would leave G* = E*/4... wrong: the tangential law needs
-  the real G*). Restitution 1: DAMPING_GAMMA = 0, so no normal and no tangential dashpot (the oblique
-  cases are elastic, `viscosity: 0 P`; every other normal law is refused, `check_run`);
+  ratio (the head-on driver's Y = 2 E*, nu = 0 gives the same E* but G* = E*/4, not the bodies' G*, which
+  the tangential stiffness needs). R* = R1 R2/(R1 + R2), or R at the wall. Restitution 1: DAMPING_GAMMA
+  = 0, so no normal and no tangential dashpot (the oblique cases are elastic, `viscosity: 0 P`; every
+  other normal law is refused, `check_run`);
 - tangential: the incremental force F_t <- F_t sqrt(delta/delta_prev) (where delta fell) - k_t du_t,
   k_t = 8 G* a, a = sqrt(R* delta), G* = 1/((2 - nu1)/G1 + (2 - nu2)/G2) (Kratos's and
   `contact_model.effective.effective_shear_modulus`'s), capped at mu F_n (F_n clipped at zero);
   STATIC_FRICTION = DYNAMIC_FRICTION = mu, so the friction decay exp(-c |v_s|) multiplies zero.
 
+Restitution 1 is no damping: the sphere strategy sets DAMPING_GAMMA = GammaForHertzThornton(e), which
+returns 0 for e > 0.999 (KratosDEMApplication 10.4.4 wheel, DEMApplication/sphere_strategy.py:617-622,
+850), and the law's dashpots are 2 gamma sqrt(M* k_n) and 2 gamma sqrt(M* k_t)
+(DEM_D_Hertz_viscous_Coulomb_CL.cpp, CalculateViscoDampingForce).
+
 A Kratos sphere-plane contact is a sphere against one RigidFace3D3N triangle of the FEM model part
-(the head-on deck's wall), with the plane's own Young's modulus and Poisson's ratio.
+(the head-on deck's wall), with the plane's own Young's modulus and Poisson's ratio. The lever arms
+(decided by running, tests/test_engine_kratos_oblique.py): R - delta at the wall, for the torque and
+the slip; between spheres R_i - delta E_j/(E_i + E_j) (spheric_particle.cpp, ComputeMoments).
+
+The tangential increment du_t is the contact point's displacement over the step before the force
+(symplectic Euler), so the tangential results converge at first order in dt: the five rungs of
+config ``oblique.ladder`` resolve the sticking impacts, four do not (docs/tangential.md, "Kratos").
 
 Kratos's DEM runs in one process here (its MPI build is not the PyPI one): no two-rank runs
 (`check_run` refuses them; config ``oblique.ranks`` lists none for kratos).

@@ -42,7 +42,7 @@ with open(HEAD_ON) as _f:
 # collisions.py reads its job from argv[1] when run: this file's job (the same file format) is read twice.
 exec(compile(_text[:_text.index(SWEEP_MARKER)], HEAD_ON, "exec"))
 
-KM_ = KM  # noqa: F821 (defined by collisions.py)
+KM_ = KM  # noqa: F821  (KratosMultiphysics, imported by collisions.py; named here once for the linter)
 
 
 def oblique_parameters(run):
@@ -102,8 +102,8 @@ class ObliqueRecorder(Recorder):  # noqa: F821
     def Initialize(self):
         super().Initialize()
         self.fast = False  # the head-on fast loop records the normal columns only
-        self.inertia = [n.GetSolutionStepValue(KM_.PARTICLE_MOMENT_OF_INERTIA) if hasattr(KM_, "PARTICLE_MOMENT_OF_INERTIA")
-                        else n.GetSolutionStepValue(DEM.PARTICLE_MOMENT_OF_INERTIA)  # noqa: F821
+        # (2/5) m R^2, set by SphericParticle::Initialize (CalculateMomentOfInertia)
+        self.inertia = [n.GetSolutionStepValue(DEM.PARTICLE_MOMENT_OF_INERTIA)  # noqa: F821
                         for n in (self.a, self.b) if n is not None]
 
     def record(self):
