@@ -58,7 +58,8 @@ HEAD_ON_DRIVER = Path(__file__).resolve().parents[1] / "cases" / "decks" / "krat
 MODELS = ("kratos:hertz_viscous_coulomb",)
 #: A step of the oblique deck in head-on steps of the cost table (engines.codes: 500 us): Kratos's
 #: stock solution loop with rotation, and a record of both bodies' 9 values read through
-#: GetSolutionStepValue (the head-on deck's fast loop records the normal columns only).
+#: GetSolutionStepValue (the head-on deck's fast loop records the normal columns only). Measured: the
+#: reduced set's 20 runs (156 005 steps) in 107-122 s on the 2 shared cores, 0.69-0.78 ms a step.
 STEP_COST = 3
 
 
