@@ -16,8 +16,8 @@ on the plane: error 8.8e-7, resolution 4.6e-7 with four; -2.8e-8 and 3.2e-8 with
 Measured (docs/tangential.md, "What the study found"; the same ladders as the reduced set's): every
 check passes with |error| <= 7.7e-8 and resolution <= 2.1e-7 (e_t of test 8 at 10 deg); at 60 deg on the
 plane every quantity within 8e-13. The other lever arms' references lie 1.7e-4 to 7.9e-4 R/V from the
-engine's omega' on the plane, 3.6e-5 between the spheres. The file takes ~2 min here (7 tests; the
-fixture's 15 runs ~100 s, with other processes on the 2 cores).
+engine's omega' on the plane, 3.6e-5 between the spheres. The file takes 31 s here on quiet cores (7
+tests; the fixture's 15 runs 24 s), 124 s with other engines sharing the 2 cores.
 """
 
 import re
