@@ -159,7 +159,7 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
                       G_star=G_star, R_star=p.R, M_star=p.M, eta=p.eta, clipped=run.law == "viscoelastic_clipped",
                       mu=run.friction, form=form, v_n=v_n, v_t=v_t, w1=v["w1"],
                       k_t0=tangential_stiffness if form.stiffness == "linear" else stiffness_constant(run.model, p),
-                      x_t=run.damping_ratio)
+                      x_t=run.damping_ratio, young_1=b1.young, young_2=b2.young)
     out = {"T": r.T, "eps": r.eps, "delta_max": r.delta_max, "F_max": r.F_max, "vt_after": r.vt_after - r.vt2_after,
            "omega_after": r.omega_after, "e_t": r.e_t, "rebound_angle": r.rebound_angle, "Ft_max": r.Ft_max,
            "slip_before": v_t + b1.radius * v["w1"],

@@ -282,6 +282,10 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
                      ".venv-kratos/; the build's executable is that venv's python)",
         parameters=model_to_engine.kratos_hertz,
         driver="engines.kratos:run_kratos", decks=("cases/decks/kratos/*.py",),
+        oblique_driver="engines.kratos_oblique:run_kratos_oblique",
+        oblique_unavailable={law: "Kratos's DEM_D_Hertz_viscous_Coulomb damps with delta^(1/4) d(delta)/dt, not the "
+                                  "study's law: oblique runs are elastic only (engines/kratos_oblique.py)"
+                             for law in ("viscoelastic", "viscoelastic_clipped")},
         default_law="`DEM_D_Hertz_viscous_Coulomb` with `COEFFICIENT_OF_RESTITUTION`",
         cost=EngineCost(start_s=2.0, per_run_s=0.1, per_step_s=500e-6),
         unavailable={law: KRATOS_NO_VISCOELASTIC for law in ("viscoelastic", "viscoelastic_clipped")},

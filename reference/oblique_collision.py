@@ -176,7 +176,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
-from .tangential_forms import TangentialForm, lever_base, lever_share
+from .tangential_forms import TangentialForm, lever_base, lever_shares
 
 RTOL = 1e-12
 ATOL = 1e-14
@@ -274,7 +274,9 @@ class _Model:
         self.c_eta = 2.0 * self.eta * math.sqrt(self.R_star)  # eta_n = c_eta delta^{1/2}
         f = self.form
         self.c_k = 1.0 if (f.history == "displacement" and f.stiffness == "mindlin") else 0.0
-        self.sh1s, self.sh1t = lever_share(f.lever_slip), lever_share(f.lever_torque)
+        # each sphere's share of the overlap in its arms (equal but for the modulus-weighted arm)
+        (self.sh1s, self.sh2s), (self.sh1t, self.sh2t) = (lever_shares(c, self.young_1, self.young_2)
+                                                          for c in (f.lever_slip, f.lever_torque))
         # the arms are L = b R - s delta: b = 0 where the spins never enter the slip, or the force applies
         # no torque (lever "none", ESyS's HertzMindlin); b = 1 otherwise (1.0 R is R bitwise)
         self.b_s, self.b_t = lever_base(f.lever_slip), lever_base(f.lever_torque)
@@ -328,7 +330,7 @@ class _Model:
         cap = math.inf if self.mu == math.inf else self.mu * F_c  # mu = inf: no cap, not inf * 0
         k_t = self.k_t0 * a if f.stiffness == "mindlin" else self.k_t0
         L1s, L1t = self.b_s * self.R1 - self.sh1s * d, self.b_t * self.R1 - self.sh1t * d
-        L2s, L2t = self.b_s * self.R2 - self.sh1s * d, self.b_t * self.R2 - self.sh1t * d
+        L2s, L2t = self.b_s * self.R2 - self.sh2s * d, self.b_t * self.R2 - self.sh2t * d
         if self.plane:
             L2s = L2t = 0.0
         alpha = 1.0  # YADE's anti-ratcheting factor on the translational slip (two spheres)
@@ -435,7 +437,7 @@ class _Model:
                 d_alpha = (alpha * alpha / self.R12 * dd) if self.form.anti_ratcheting else 0.0
                 dv_s = (alpha * (F_t * (self.im1 + self.im2) - q["turn"] * dd) + d_alpha * v_c
                         + F_t * (q["L1s"] * q["L1t"] * self.iI1 + q["L2s"] * q["L2t"] * self.iI2)
-                        - self.sh1s * dd * (q["w1"] + q["w2"]))
+                        - dd * (self.sh1s * q["w1"] + self.sh2s * q["w2"]))
             dX -= q["eta_stick"] * (half_rate * q["v_s"] + rd * dv_s)
         return dX
 
@@ -473,7 +475,8 @@ class _Model:
 def solve_oblique(*, geometry: str, R1: float, m1: float, R2: float, m2: float, E_star: float, G_star: float,
                   R_star: float, M_star: float, eta: float, clipped: bool, mu: float, form: TangentialForm,
                   v_n: float, v_t: float, w1: float = 0.0, k_t0: float | None = None, x_t: float = 0.0,
-                  I1: float | None = None, I2: float | None = None) -> ObliqueResult:
+                  I1: float | None = None, I2: float | None = None, young_1: float | None = None,
+                  young_2: float | None = None) -> ObliqueResult:
     r"""One oblique collision of sphere 1 with a sphere or a plane (body 2, at rest), solved with the
     model's own equations (module docstring: conventions, transitions, method).
 
@@ -510,6 +513,9 @@ def solve_oblique(*, geometry: str, R1: float, m1: float, R2: float, m2: float, 
         eta_t / eta_n [-] for the damped forms.
     I1, I2 : float, optional
         Moments of inertia [kg m^2]; default (2/5) m R^2 (solid spheres).
+    young_1, young_2 : float, optional
+        The bodies' Young's moduli [Pa], for the modulus-weighted lever arm only
+        (`reference.tangential_forms.lever_shares`).
 
     Returns
     -------
@@ -532,7 +538,7 @@ def solve_oblique(*, geometry: str, R1: float, m1: float, R2: float, m2: float, 
     model = _Model(dict(plane=plane, R1=R1, m1=m1, R2=(0.0 if plane else R2), m2=m2, I1=I1, I2=I2,
                         E_star=E_star, G_star=G_star, R_star=R_star, M_star=M_star, eta=eta, clipped=clipped,
                         mu=mu, form=form, k_t0=k_t0, x_t=x_t, v_n=v_n, v_t=v_t, w1=w1, t_e=t_e,
-                        v_s0=v_t + R1 * w1))
+                        v_s0=v_t + R1 * w1, young_1=young_1, young_2=young_2))
     V = math.hypot(v_n, v_t + R1 * w1)
     F_e = model.k_n * delta_e ** 1.5
     H_scale = V * t_e if form.history == "displacement" else F_e

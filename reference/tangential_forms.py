@@ -30,7 +30,10 @@ STIFFNESSES = ("mindlin", "linear")
 CAPS = ("total", "elastic")
 CAP_NORMALS = ("total_abs", "total_clipped", "elastic")
 DAMPINGS = ("none", "normal_xt", "stick_only")
-LEVERS = ("R", "R-delta/2", "R-delta", "none")
+LEVERS = ("R", "R-delta/2", "R-delta", "none", "R-delta*Ej/(Ei+Ej)")
+#: The arm whose share of the overlap is the other body's Young's modulus over the sum (Kratos's pair
+#: contact): each sphere's share differs where the moduli do (`lever_shares`).
+MODULUS_WEIGHTED = "R-delta*Ej/(Ei+Ej)"
 
 
 @dataclass(frozen=True)
@@ -71,8 +74,10 @@ class TangentialForm:
     lever_slip : str
         The arm [m] of each sphere in the contact point's velocity, v_s = (v_1 + L_1 w_1) -
         (v_2 - L_2 w_2): ``"R"``, ``"R-delta/2"`` or ``"R-delta"`` (its radius less that much of
-        the overlap [m]), or ``"none"``: L = 0, the spins never enter the slip, v_s = v_1 - v_2
-        (ESyS's HertzMindlin, whose slip is the centres' relative velocity alone).
+        the overlap [m]), ``"R-delta*Ej/(Ei+Ej)"``: L_i = R_i - delta E_j / (E_i + E_j), E_i the
+        bodies' Young's moduli [Pa] (Kratos's pair contact; R - delta/2 for equal moduli), or
+        ``"none"``: L = 0, the spins never enter the slip, v_s = v_1 - v_2 (ESyS's HertzMindlin,
+        whose slip is the centres' relative velocity alone).
     lever_torque : str
         The arm [m] of each sphere in its torque, tau_i = L_i F_t [N m] about +z (same choices;
         ``"none"``: L = 0, the force applies no torque and the spins stay as they were, ESyS's
@@ -127,6 +132,36 @@ def lever(choice: str, R: float, delta: float) -> float:
     return lever_base(choice) * R - lever_share(choice) * delta
 
 
+def lever_shares(choice: str, young_1: float | None = None, young_2: float | None = None) -> tuple[float, float]:
+    """The shares (s_1, s_2) of the overlap each sphere's arm loses, L_i = R_i - s_i delta [-].
+
+    Parameters
+    ----------
+    choice : str
+        ``"R"``, ``"R-delta/2"``, ``"R-delta"`` (both spheres alike, `lever_share`) or
+        ``"R-delta*Ej/(Ei+Ej)"``: s_1 = E_2/(E_1 + E_2), s_2 = E_1/(E_1 + E_2).
+    young_1, young_2 : float, optional
+        The bodies' Young's moduli [Pa]; required for the modulus-weighted arm.
+
+    Returns
+    -------
+    tuple of float
+        (s_1, s_2).
+
+    Raises
+    ------
+    ValueError
+        For the modulus-weighted arm without two finite positive moduli.
+    """
+    if choice != MODULUS_WEIGHTED:
+        s = lever_share(choice)
+        return s, s
+    if not (young_1 and young_2 and young_1 > 0 and young_2 > 0 and math.isfinite(young_1 + young_2)):
+        raise ValueError(f"the lever arm {choice!r} needs both bodies' finite Young's moduli, got {young_1!r}, "
+                         f"{young_2!r}")
+    return young_2 / (young_1 + young_2), young_1 / (young_1 + young_2)
+
+
 def lever_share(choice: str) -> float:
     """The share s of the overlap an arm loses, L = b R - s delta [-]: 0, 1/2, 1, or 0 for
     ``"none"`` (no arm: it loses nothing, and dL/dt = -s d(delta)/dt = 0).
@@ -141,6 +176,8 @@ def lever_share(choice: str) -> float:
     float
         0, 0.5, 1 or 0.
     """
+    if choice == MODULUS_WEIGHTED:  # a share per sphere, from the moduli
+        raise ValueError(f"the lever arm {choice!r} has a share per sphere: lever_shares(choice, E_1, E_2)")
     return {"R": 0.0, "R-delta/2": 0.5, "R-delta": 1.0, "none": 0.0}[choice]
 
 

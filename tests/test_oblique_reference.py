@@ -78,6 +78,15 @@ def hertz_overlap(case):
 SHARE = {"R": 0.0, "R-delta/2": 0.5, "R-delta": 1.0}
 
 
+def shares(choice, c):
+    """(s_1, s_2): each sphere's share of the overlap in its arm, written again (Kratos's pair arm
+    R_i - delta E_j/(E_i + E_j) from the case's young_1, young_2; the others alike for both)."""
+    if choice == "R-delta*Ej/(Ei+Ej)":
+        e1, e2 = c["young_1"], c["young_2"]
+        return e2 / (e1 + e2), e1 / (e1 + e2)
+    return SHARE[choice], SHARE[choice]
+
+
 class Independent:
     """The same model, written again: DOP853 in t alone, other event functions."""
 
@@ -103,8 +112,9 @@ class Independent:
         Fc = {"total_abs": abs(Fn), "total_clipped": max(Fn, 0.0), "elastic": Fe}[f.cap_normal]
         C = c["mu"] * Fc
         kt = self.kt0 * a if f.stiffness == "mindlin" else self.kt0
-        L1 = c["R1"] - SHARE[f.lever_slip] * d
-        L2 = 0.0 if self.plane else self.R2 - SHARE[f.lever_slip] * d
+        s1, s2 = shares(f.lever_slip, c)
+        L1 = c["R1"] - s1 * d
+        L2 = 0.0 if self.plane else self.R2 - s2 * d
         vs = vy1 + L1 * w1 - vy2 + L2 * w2
         et = 0.0 if f.damping == "none" else c.get("x_t", 0.0) * 2 * c["eta"] * a
         if mode == 0:
@@ -123,8 +133,9 @@ class Independent:
         c, f = self.c, self.f
         Fn, Ft, X, C, Fel, kt, vs = self.forces(y, mode)
         d = max(y[0], 0.0)
-        L1t = c["R1"] - SHARE[f.lever_torque] * d
-        L2t = self.R2 - SHARE[f.lever_torque] * d
+        s1, s2 = shares(f.lever_torque, c)
+        L1t = c["R1"] - s1 * d
+        L2t = self.R2 - s2 * d
         dH = 0.0
         if mode == 0:
             dH = vs if f.history == "displacement" else -kt * vs
@@ -307,8 +318,9 @@ class IndependentPlanar(Independent):
         dpos = np.array([y[4] - y[2], y[5] - y[3]])  # d(r2 - r1)/dt
         F1 = -Fn * n + Ft * t
         dm = max(d, 0.0)
-        L1t = c["R1"] - SHARE[f.lever_torque] * dm
-        L2t = self.R2 - SHARE[f.lever_torque] * dm
+        s1, s2 = shares(f.lever_torque, c)
+        L1t = c["R1"] - s1 * dm
+        L2t = self.R2 - s2 * dm
         dH = np.zeros(2)
         if mode == 0:
             omega = ((c["R1"] + self.R2 + y[0]) * dpos[1] - y[1] * dpos[0]) / dist ** 2
@@ -385,6 +397,10 @@ for _name, _c, _K in (
 #: Two alumina spheres of one size (the engines' pair): YADE's pair form with its anti-ratcheting
 #: factor (from the registry), frictionless, and a spinning sphere with a rescaled force history.
 INDEPENDENT_CASES["yade-registry-pair-10deg"] = pair_case(10, form=form_of("yade:mindlin", "sphere-sphere"), R2=R)
+#: Kratos's pair form (the arms R_i - delta E_j/(E_i + E_j)) between moduli 1000 apart, as in Chung &
+#: Ooi's test 8: sphere 1's arm loses nearly the whole overlap, sphere 2's nearly none.
+INDEPENDENT_CASES["kratos-registry-pair-unequal-moduli"] = pair_case(
+    10, form=form_of("kratos:hertz_viscous_coulomb", "sphere-sphere"), mu=0.3, young_1=E, young_2=1000 * E)
 INDEPENDENT_CASES["frictionless-pair-45deg"] = pair_case(45, mu=0.0, R2=R)
 INDEPENDENT_CASES["force-rescale-pair-spin"] = pair_case(20, form=MINDLIN_FORCE_RESCALE, w1=-300.0, mu=0.3)
 _c = pair_case(12, form=LAMMPS, mu=0.2, x_t=0.5)
