@@ -240,8 +240,23 @@ def slowest_order(h, y, ladder_order: float = math.inf) -> float:
     at which what remains beyond the finest rung is bounded (a damped oblique contact converges as
     slowly as h^{1/2} where stick and slip alternate: measured, alumina at K = 0.1, 10 deg; orders
     above 1 are bounded at 1, which the series' own terms then only tighten). 1/2 where the rungs
-    show no order (a difference of 0). `ladder_order`, the slowest order another quantity of the
-    same contact shows (`limit_rows`), bounds it too."""
+    show no order (a difference of 0).
+
+    Parameters
+    ----------
+    h : array_like
+        The rungs' steps dt / T_e [-], coarsest first, at least three.
+    y : array_like
+        The quantity's error at each rung [-], in the same order.
+    ladder_order : float, optional
+        The slowest order another quantity of the same contact shows (`ladder_order`, `limit_rows`);
+        it bounds this one too. Default: none.
+
+    Returns
+    -------
+    float
+        The order [-], in [1/2, 1].
+    """
     orders = [rung_order(h[:k], y[:k]) for k in ((len(y), len(y) - 1) if len(y) >= 4 else (len(y),))]
     if not all(math.isfinite(p) for p in orders):
         return 0.5
@@ -266,8 +281,20 @@ def _first_order(h, y) -> float:
 
 
 def rung_order(h, y) -> float:
-    """The order the finest three rungs show: log(|y[-2] - y[-3]| / |y[-1] - y[-2]|) / log(h[-2] / h[-1])
-    (h coarsest first; NaN where a difference is 0)."""
+    """The order the finest three rungs show: log(|y[-2] - y[-3]| / |y[-1] - y[-2]|) / log(h[-2] / h[-1]).
+
+    Parameters
+    ----------
+    h : array_like
+        The rungs' steps dt / T_e [-], coarsest first, at least three.
+    y : array_like
+        The quantity at each rung [-], in the same order.
+
+    Returns
+    -------
+    float
+        The observed order [-]; NaN where a difference is 0.
+    """
     d1, d2 = abs(y[-2] - y[-3]), abs(y[-1] - y[-2])
     if d1 == 0 or d2 == 0:
         return math.nan
@@ -346,9 +373,21 @@ TANGENTIAL_QUANTITIES = ("vt_after", "omega_after", "e_t", "rebound_angle", "Ft_
 
 
 def ladder_order(h, columns) -> float:
-    """The slowest order (`rung_order`) the finest three rungs show among `columns` (arrays of the
-    tangential quantities' errors, coarsest first), counting those whose finest difference is above
-    RESOLUTION_FLOOR (below it the order is round-off's); inf where none is."""
+    """The slowest order (`rung_order`) the finest three rungs show among `columns`, counting those
+    whose finest difference is above RESOLUTION_FLOOR (below it the order is round-off's).
+
+    Parameters
+    ----------
+    h : array_like
+        The rungs' steps dt / T_e [-], coarsest first.
+    columns : iterable of array_like
+        The tangential quantities' errors at each rung [-], each in the order of `h`.
+
+    Returns
+    -------
+    float
+        The slowest order [-]; inf where no column shows one.
+    """
     orders = [rung_order(h, y) for y in columns if len(y) >= 3 and abs(y[-1] - y[-2]) > RESOLUTION_FLOOR]
     return min([p for p in orders if math.isfinite(p)], default=math.inf)
 

@@ -10,9 +10,9 @@ and at 3 deg (sticks, then slides: with ESyS's stiffer k_t0 the contact slides f
 of the case's list, 5 deg included, where (k_t0/(2 E*)) tan(theta) > mu); test 8's unequal spheres (R 0.1
 and 0.5 m, 1000 times the density and stiffness, mu = 0.4, v_n = 0.2 m/s) with a tangential velocity of
 the centres at 10 deg and no spin (sticks, then slides; the case's own impacts are spins alone, which
-HertzMindlin's slip never sees). The ladder is the study's four coarsest rungs (T_e/1000 ... /8000); the
-file takes ~2 min here (measured: 113 s at load 10 on the 2 cores, 80 s of it the three ladders; ESyS's
-MPI round trip per step).
+HertzMindlin's slip never sees). The ladder is the study's four coarsest rungs (T_e/1000 ... /8000; at 3
+deg its five and /32000); the file takes ~2 min here (measured: 113 s at load 10 on the 2 cores, 80 s of
+it the three ladders; ESyS's MPI round trip per step).
 
 Measured (docs/tangential.md): every check passes, |error| + resolution <= 3e-7 on the plane, <= 8.1e-7
 between the spheres (e_t at 10 deg); mu x (1 + 1e-4) moves v_t', e_t, the rebound angle and F_t,max by
@@ -42,6 +42,10 @@ ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 TOLERANCE = float(CONFIG["oblique"]["tolerance"])
 LADDER = CONFIG["oblique"]["ladder"][:4]
+#: The stick-then-slip impact's ladder: its e_t and F_t,max converge slower than first order over the
+#: four coarsest rungs, which the gate's checked estimate (analysis.oblique.oblique_limit) states
+#: unresolved (e_t 1.6e-6 +- 5.1e-6); the study's own five rungs and one finer resolve it.
+FINER = CONFIG["oblique"]["ladder"] + [2 * CONFIG["oblique"]["ladder"][-1]]
 MODEL = "esys:hertz_mindlin"
 TEST4 = load_case(ROOT / "cases" / "oblique" / "chung_ooi_test4.yaml")
 TEST8 = load_case(ROOT / "cases" / "oblique" / "chung_ooi_test8.yaml")
@@ -79,7 +83,7 @@ def study(tmp_path_factory, runs_engine):
     b = build()
     banner = check_build(b)
     ladders = {"plane 60": tilted(TEST4, 60.0, 3.9, LADDER, b, banner),
-               "plane 3": tilted(TEST4, 3.0, 3.9, LADDER, b, banner),
+               "plane 3": tilted(TEST4, 3.0, 3.9, FINER, b, banner),
                "spheres 10": tilted(TEST8, 10.0, 0.2 / math.cos(math.radians(10.0)), LADDER, b, banner)}
     work = tmp_path_factory.mktemp("esys")
     planes = ladders["plane 60"] + ladders["plane 3"]
