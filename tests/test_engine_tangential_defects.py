@@ -397,13 +397,14 @@ def test_esys_check_refuses_bad_numbers_naming_the_field():
 
 
 def test_esys_check_stopped_at_its_time_limit_fails_naming_the_log(tmp_path, runs_engine):
-    """ESyS killed at its time limit (0.5 s: it takes ~1 s to start) is an EngineRunFailed naming the
+    """ESyS killed at its time limit (0.5 s, for a run of about a million steps; at T_e/100 a quiet machine
+    once finished it within 0.5 s) is an EngineRunFailed naming the
     run, the limit and the log, never a record."""
     from engines.errors import EngineRunFailed
     from engines.esys_oblique import EsysObliqueRun, run_esys_oblique
 
     require_engine("esysparticle", "esys-particle")
-    run = EsysObliqueRun("too-slow", R, RHO, E, NU, MU, V, 10.0, 100)
+    run = EsysObliqueRun("too-slow", R, RHO, E, NU, MU, V, 10.0, 1e6)  # ~1e6 steps: never done in 0.5 s
     with pytest.raises(EngineRunFailed) as err:
         run_esys_oblique([run], tmp_path, timeout_s=0.5)
     assert "too-slow" in str(err.value) and "time limit (0.5 s)" in str(err.value) and "esys.log" in str(err.value)
