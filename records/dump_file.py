@@ -92,11 +92,31 @@ def read_dump(path, oblique: bool = False) -> tuple[dict, dict[str, np.ndarray]]
         which an oblique dump also has (its other columns are then returned as well).
     """
     path = Path(path)
-    meta: dict = {}
     try:
-        lines = path.read_text().splitlines()
+        content = path.read_bytes()
     except OSError as err:
         raise DumpError(f"{path}: cannot read dump: {err.strerror}")
+    return parse_dump(content, path, oblique)
+
+
+def parse_dump(content: bytes, path, oblique: bool = False) -> tuple[dict, dict[str, np.ndarray]]:
+    """A dump's bytes as `read_dump` reads them: (metadata dict, {column: array}). For a caller that
+    holds the bytes already (`records.run_manifest.verified_dump` hashes the very bytes it parses, so
+    that the file cannot change between the check and the read).
+
+    Parameters
+    ----------
+    content : bytes
+        The dump file's bytes (hertz-dem-dump: 1, UTF-8).
+    path : str or os.PathLike
+        Where they were read from: for the error messages only.
+    oblique : bool
+        Require the oblique run's columns too (as `read_dump`).
+    """
+    path = Path(path)
+    meta: dict = {}
+    try:
+        lines = content.decode("utf-8").splitlines()
     except UnicodeDecodeError as err:
         raise DumpError(f"{path}: not a text file (byte {err.start} is not UTF-8)")
     body_start = 0
