@@ -9,6 +9,7 @@ import numpy as np
 
 from records.collision_metrics import ExtractionError, collision_metrics
 from records.dump_file import write_dump
+from records.text_rows import read_rows
 
 from .errors import EngineRunFailed
 from .run_spec import RunSpec
@@ -18,7 +19,7 @@ def load_record(spec: RunSpec, raw: Path, log) -> np.ndarray:
     """An engine's per-step record (time, overlap, normal velocity, normal force; one header
     line) as an array, or EngineRunFailed."""
     try:
-        data = np.loadtxt(raw, delimiter=None if raw.suffix == ".txt" else ",", skiprows=1, ndmin=2)
+        data = read_rows(raw, delimiter=None if raw.suffix == ".txt" else ",", skiprows=1)
     except (OSError, ValueError) as err:
         raise EngineRunFailed(spec.name, f"unreadable engine record {raw}: {err}", log)
     if data.shape[0] < 3 or data.shape[1] != 4:

@@ -10,6 +10,7 @@ import numpy as np
 
 from records.collision_metrics import ExtractionError, collision_metrics
 from records.dump_file import OBLIQUE_COLUMNS
+from records.text_rows import read_rows
 
 from .errors import EngineRunFailed
 from .oblique_run import ObliqueRun
@@ -41,7 +42,7 @@ def read_oblique_record(raw: Path, run: ObliqueRun, log: Path, first_row=None) -
         collision can be extracted from its normal columns.
     """
     try:
-        data = np.loadtxt(raw, skiprows=1, ndmin=2)
+        data = read_rows(raw, delimiter=None, skiprows=1)
     except (OSError, ValueError) as err:
         raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
     if data.shape[0] < 3 or data.shape[1] != len(OBLIQUE_COLUMNS):

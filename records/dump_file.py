@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from .files import write_atomically
+from .text_rows import read_rows
 
 FORMAT_VERSION = 1
 COLUMNS = ("time", "overlap", "normal_velocity", "normal_force")
@@ -137,38 +138,16 @@ def parse_dump(content: bytes, path, oblique: bool = False) -> tuple[dict, dict[
     columns = header
     if not any(line.strip() for line in lines[body_start + 1:]):
         raise DumpError(f"{path}: no data rows")  # before numpy, which would warn about it too
-    data = _fast_rows(lines[body_start + 1:], len(columns))
-    if data is None:  # not clean numbers in `columns` columns: numpy's reader says what and where
-        try:
-            data = np.loadtxt(lines[body_start + 1:], delimiter=",", ndmin=2)
-        except ValueError as err:
-            raise DumpError(f"{path}: unreadable data: {err}")
+    try:
+        data = read_rows(lines[body_start + 1:])
+    except ValueError as err:
+        raise DumpError(f"{path}: unreadable data: {err}")
     if data.shape[0] == 0 or data.shape[1] != len(columns):
         raise DumpError(f"{path}: no data rows")
     if not np.all(np.isfinite(data)):
         row = int(np.nonzero(~np.all(np.isfinite(data), axis=1))[0][0])
         raise DumpError(f"{path}: non-finite value (NaN or inf) in data row {row + 1}")
     return meta, {c: data[:, i] for i, c in enumerate(columns)}
-
-
-def _fast_rows(lines, width: int) -> np.ndarray | None:
-    """The data rows `lines` as an N x `width` array, read by pandas's C parser (2.5 to 3 times
-    numpy.loadtxt's speed on the study's dumps: an oblique job reads ~100 of up to 10^5 rows, a case
-    summary ~1000); None where that reader refuses them or finds another width, so that the caller
-    reads them with numpy.loadtxt, whose message names the row and the column. pandas 3's parser
-    rounds correctly (a %.17g value reads back bit for bit, as numpy's does:
-    tests/test_dump_file_reader.py). Only what both readers accept passes here: no quoting,
-    no NaN spelled out (numpy reads it, the caller then names the row), '#' starts a comment."""
-    import csv
-
-    import pandas as pd  # here, not at the top: an engine job writes dumps and never reads one
-
-    try:
-        data = pd.read_csv(io.StringIO("\n".join(lines)), header=None, dtype=float, engine="c", na_filter=False,
-                           comment="#", quoting=csv.QUOTE_NONE).to_numpy()
-    except (ValueError, pd.errors.EmptyDataError):  # ParserError is a ValueError
-        return None
-    return data if data.ndim == 2 and data.shape[1] == width else None
 
 
 def finite_or_none(x: float):
