@@ -28,19 +28,19 @@ import numpy as np
 import pytest
 import yaml
 
-from analysis.oblique import limit_rows, oblique_checks, rung_rows
+from analysis.oblique import rung_rows
 from contact_model import load_case
 from engine_cases import require_engine
 from engines.builds import check_build, load_builds
 from engines.esys_oblique import deck_numbers, run_esys_oblique_sweep
-from engines.oblique_plan import ObliquePlan, oblique_plan
+from engines.oblique_plan import oblique_plan
 from engines.oblique_run import ObliqueJob
+from oblique_gate import TOLERANCE, gate
 from records.dump_file import read_dump
 from report.oblique_report import torque_note
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-TOLERANCE = float(CONFIG["oblique"]["tolerance"])
 LADDER = CONFIG["oblique"]["ladder"][:4]
 #: The stick-then-slip impact's ladder: its e_t and F_t,max converge slower than first order over the
 #: four coarsest rungs, which the gate's checked estimate (analysis.oblique.oblique_limit) states
@@ -70,12 +70,6 @@ def tilted(case, angle, speed, factors, b, banner):
     th = math.radians(angle)
     return [replace(r, normal=replace(r.normal, velocity=speed * math.cos(th)),
                     tangential_velocity=speed * math.sin(th), spin=0.0) for r in runs if r.ladder == first]
-
-
-def gate(runs, sweep):
-    rungs = rung_rows(runs, sweep)
-    plan = ObliquePlan(runs=runs, build=runs[0].build)
-    return oblique_checks(limit_rows(rungs), TOLERANCE, planned=plan, failures=sweep.failures), rungs
 
 
 @pytest.fixture(scope="module")

@@ -27,20 +27,20 @@ from pathlib import Path
 import pytest
 import yaml
 
-from analysis.oblique import limit_rows, oblique_checks, rung_rows, speed_scale
+from analysis.oblique import speed_scale
 from contact_model import load_case
 from contact_model.effective import effective_shear_modulus
 from contact_model.tangential_models import form_of
 from engine_cases import require_engine
-from engines.builds import check_build, load_builds
+from engines.builds import load_builds
 from engines.kratos_oblique import run_kratos_oblique
-from engines.oblique_plan import ObliquePlan, oblique_plan
+from engines.oblique_plan import oblique_plan
+from oblique_gate import TOLERANCE, gate, ladders
 from records.dump_file import read_dump
 from reference import solve_oblique
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-TOLERANCE = float(CONFIG["oblique"]["tolerance"])
 LADDER = CONFIG["oblique"]["ladder"]
 MODEL = "kratos:hertz_viscous_coulomb"
 TEST4 = load_case(ROOT / "cases" / "oblique" / "chung_ooi_test4.yaml")
@@ -58,26 +58,10 @@ def build():
     return b
 
 
-def ladders(b):
-    """{(case, angle): runs} of the model, every rung on one rank."""
-    banner = check_build(b)
-    out = {}
-    for case, angle in IMPACTS:
-        plan = oblique_plan([case], b.code, b.id, banner, LADDER)
-        out[(case.name, angle)] = [r for r in plan.runs if r.model == MODEL and abs(r.contact_angle - angle) < 1e-9]
-    return out
-
-
-def gate(runs, sweep):
-    rungs = rung_rows(runs, sweep)
-    plan = ObliquePlan(runs=runs, build=runs[0].build)
-    return oblique_checks(limit_rows(rungs), TOLERANCE, planned=plan, failures=sweep.failures), rungs
-
-
 @pytest.fixture(scope="module")
 def study(tmp_path_factory, runs_engine):
     b = build()
-    runs = ladders(b)
+    runs = ladders(b, MODEL, IMPACTS, LADDER)  # every rung on one rank
     every = [r for rs in runs.values() for r in rs]
     sweep = run_kratos_oblique(every, tmp_path_factory.mktemp("kratos"), b.executable).raise_first()
     return b, runs, sweep

@@ -14,20 +14,19 @@ from pathlib import Path
 import pytest
 import yaml
 
-from analysis.oblique import limit_rows, oblique_checks, rung_rows
 from contact_model import load_case
 from engines.builds import load_builds
 from engines.codes import CODES
 from engines.lammps_oblique import run_lammps_oblique
-from engines.oblique_plan import ObliquePlan, oblique_plan
+from engines.oblique_plan import oblique_plan
 from engines.yade_oblique import run_yade_oblique
 
 from engine_cases import missing
+from oblique_gate import TOLERANCE, gate
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 CASE = load_case(ROOT / "cases" / "oblique" / "chung_ooi_test4.yaml")
-TOLERANCE = float(CONFIG["oblique"]["tolerance"])
 LADDER = CONFIG["oblique"]["ladder"]
 #: The quantities a k_t 1e-4 too stiff must move beyond the tolerance at 10 deg (measured: omega'
 #: by about 1e-4 relative, 100 times the tolerance).
@@ -48,14 +47,6 @@ def runs(b, model: str, angle: float):
     return [r for r in plan.runs if r.model == model and abs(r.angle - angle) < 1e-9]
 
 
-def gate(runs, sweep, known_defects=()):
-    rungs = rung_rows(runs, sweep, known_defects)
-    limits = limit_rows(rungs)
-
-    plan = ObliquePlan(runs=runs, build=runs[0].build)
-    return oblique_checks(limits, TOLERANCE, planned=plan, failures=sweep.failures, known_defects=known_defects)
-
-
 RUNNERS = {"lammps": lambda runs, work, exe, scale: run_lammps_oblique(runs, work, exe, stiffness_factor=scale),
            "yade": lambda runs, work, exe, scale: run_yade_oblique(runs, work, exe,
                                                                     stiffness_scale=None if scale == 1 else scale)}
@@ -67,9 +58,9 @@ def test_a_tangential_stiffness_off_by_1e_4_fails_naming_the_checks(build_id, mo
     ladder = runs(b, model, 10.0)
     assert len(ladder) == len(LADDER)
     run = RUNNERS[b.code]
-    good = gate(ladder, run(ladder, tmp_path / "good", b.executable, 1.0))
+    good, _ = gate(ladder, run(ladder, tmp_path / "good", b.executable, 1.0))
     assert len(good) >= 6 and (good.status == "PASS").all(), good[good.status != "PASS"].to_string()
-    bad = gate(ladder, run(ladder, tmp_path / "stiff", b.executable, 1.0 + 1e-4))
+    bad, _ = gate(ladder, run(ladder, tmp_path / "stiff", b.executable, 1.0 + 1e-4))
     failed = set(bad[bad.status == "FAIL"].quantity)
     assert SEEN <= failed, bad.to_string()
     # The normal half does not see the tangential stiffness: T and eps still pass.
@@ -85,12 +76,12 @@ def test_the_classic_wall_crash_fails_unless_declared_and_is_never_a_pass(tmp_pa
     ladder = runs(b, "lammps:hertz/history", 60.0)
     sweep = run_lammps_oblique(ladder, tmp_path, b.executable)
     assert sweep.failures, "22 Jul 2025's classic wall with gamman = 0 no longer crashes: the known defect is fixed"
-    plain = gate(ladder, sweep)
+    plain, _ = gate(ladder, sweep)
     assert list(plain.status) == ["FAIL"] and "Non-numeric atom coords" in plain.detail.iloc[0]
     declared = [d for d in CONFIG["oblique"]["known_defects"] if d["model"] == "lammps:hertz/history"]
     assert declared, "config oblique.known_defects no longer declares the classic wall's crash"
-    known = gate(ladder, sweep, declared)
+    known, _ = gate(ladder, sweep, declared)
     assert list(known.status) == ["KNOWN DEFECT"] and declared[0]["reference"] in known.detail.iloc[0]
     # A declaration whose failure text does not match is no excuse: FAIL.
     other = [{**declared[0], "fails": "Lost atoms"}]
-    assert list(gate(ladder, sweep, other).status) == ["FAIL"]
+    assert list(gate(ladder, sweep, other)[0].status) == ["FAIL"]

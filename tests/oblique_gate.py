@@ -1,0 +1,83 @@
+"""The oblique gate as the engine tests run it (as tests/plan_verlet.py serves the kit tests): one
+place for what every oblique engine test did alike, so that a test's checks are the study's checks
+(analysis.oblique) and not a copy that could drift from them.
+
+- `gate`: a ladder's rungs -> its dt -> 0 limits -> the checks at config ``oblique.tolerance``, with
+  the ladder as the plan (a run that did not land is a FAIL of its ladder, not a missing row);
+- `ladders`: the plan's ladders of one model per (case, contact-point incidence), as
+  `engines.oblique_plan` makes them for the study.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import yaml
+
+from analysis.oblique import limit_rows, oblique_checks, rung_rows
+from engines.builds import check_build
+from engines.oblique_plan import ObliquePlan, oblique_plan
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+#: The gate's tolerance on |error| + resolution of every oblique check (dimensionless).
+TOLERANCE = float(CONFIG["oblique"]["tolerance"])
+
+
+def gate(runs, sweep, known_defects=(), tolerance=TOLERANCE):
+    """The gate's checks of one ladder, as the study gates it (analysis.oblique).
+
+    Parameters
+    ----------
+    runs : list of engines.oblique_run.ObliqueRun
+        The ladder's rungs (one build).
+    sweep : engines.finish_run.Sweep
+        What running them gave: ``dumps`` and ``failures`` by run name.
+    known_defects : sequence of dict
+        Config ``oblique.known_defects`` entries to apply (none by default).
+    tolerance : float
+        The bound on |error| + resolution of each check (dimensionless; config's by default).
+
+    Returns
+    -------
+    tuple of pandas.DataFrame
+        (checks, rungs): `analysis.oblique.oblique_checks` of the ladder's limits, planned as
+        `runs`, and `analysis.oblique.rung_rows` of the rungs.
+    """
+    rungs = rung_rows(runs, sweep, known_defects)
+    plan = ObliquePlan(runs=runs, build=runs[0].build)
+    checks = oblique_checks(limit_rows(rungs), tolerance, planned=plan, failures=sweep.failures,
+                            known_defects=known_defects)
+    return checks, rungs
+
+
+def ladders(b, model: str, impacts, factors, ranks=(1,)) -> dict:
+    """The study's ladders of `model` in build `b`, one per impact.
+
+    Parameters
+    ----------
+    b : engines.builds.Build
+        The build (its version line is asked of it: `engines.builds.check_build`).
+    model : str
+        The tangential model's registry name, e.g. ``"kratos:hertz_viscous_coulomb"``.
+    impacts : sequence of (contact_model.Case, float)
+        (case, contact-point incidence [deg]): the impacts of the case's list to run.
+    factors : sequence of float
+        The ladder's time-step factors (dt ~ T_e / factor).
+    ranks : sequence of int
+        MPI process counts (`engines.oblique_plan.oblique_plan`): 1, every rung; 2, the coarsest
+        rung again on two ranks.
+
+    Returns
+    -------
+    dict
+        (case name, incidence [deg]) -> list of engines.oblique_run.ObliqueRun, the plan's runs of
+        that impact (incidence matched to 1e-9 deg).
+    """
+    banner = check_build(b)
+    out = {}
+    for case, angle in impacts:
+        plan = oblique_plan([case], b.code, b.id, banner, factors, ranks)
+        out[(case.name, angle)] = [r for r in plan.runs if r.model == model and abs(r.contact_angle - angle) < 1e-9]
+    return out
+
