@@ -6,8 +6,9 @@
 # Runs under the Kratos venv's Python: KratosMultiphysics, its DEMApplication and the standard library.
 # The head-on driver collisions.py (beside this file) is run up to its sweep (the line of SWEEP_MARKER,
 # as benchmarks/engine_overheads.py runs it) for its functions: the inputs it writes (project parameters,
-# model parts), its Recorder (a DEMAnalysisStage that records after every solution step) and its build
-# line. This file changes what an oblique run needs and nothing else:
+# model parts), its Recorder (a DEMAnalysisStage that records after every solution step), its build
+# line and its sweep (the runs in turn, a failure reported per run, the status file). This file changes
+# what an oblique run needs and nothing else:
 #
 # - rotation on (RotationOption, Kratos's default rotational scheme "Direct_Integration", i.e. the
 #   translational Symplectic_Euler: w_{n+1} = w_n + M_n dt / I, I = (2/5) m R^2 for a sphere);
@@ -32,7 +33,6 @@ import math
 import os
 import shutil
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SWEEP_MARKER = "# The sweep (benchmarks/engine_overheads.py runs this file up to this line"
@@ -169,18 +169,5 @@ def simulate_oblique(run):
     shutil.rmtree(folder)
 
 
-# The sweep (the head-on deck's, with the oblique run).
-KM_.Logger.GetDefaultOutput().SetSeverity(KM_.Logger.Severity.WARNING)
-status = {"engine_version": version(), "runs": {}}  # noqa: F821
-print(status["engine_version"], flush=True)
-for run in JOB["runs"]:  # noqa: F821
-    print("RUN %s" % run["name"], flush=True)
-    started = time.time()
-    try:
-        simulate_oblique(run)
-        status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
-    except Exception as err:  # report per run; the host fails that run with this log
-        status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
-        print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
-with open(JOB["status"], "w") as f:  # noqa: F821
-    json.dump(status, f, indent=1)
+# The sweep: the head-on deck's (collisions.py's sweep), with the oblique run.
+sweep(JOB, simulate_oblique)  # noqa: F821
