@@ -322,19 +322,20 @@ def simulate(run):
     shutil.rmtree(folder)
 
 
-def make_stage(run):
-    """(the run's Recorder, the folder of its Kratos inputs)."""
+def make_stage(run, parameters_of=project_parameters, materials_of=materials, model_of=write_model, stage=Recorder):
+    """(the run's Recorder, the folder of its Kratos inputs). oblique.py passes its own writers of the
+    project parameters, materials and model parts, and its Recorder: the same folder, files and order."""
     folder = run["out"] + ".d"
     shutil.rmtree(folder, ignore_errors=True)
     os.makedirs(folder)
     with open(os.path.join(folder, "ProjectParametersDEM.json"), "w") as f:
-        json.dump(project_parameters(run), f, indent=1)
+        json.dump(parameters_of(run), f, indent=1)
     with open(os.path.join(folder, "MaterialsDEM.json"), "w") as f:
-        json.dump(materials(run), f, indent=1)
-    write_model(run, folder)
+        json.dump(materials_of(run), f, indent=1)
+    model_of(run, folder)
     with open(os.path.join(folder, "ProjectParametersDEM.json")) as f:
         parameters = KM.Parameters(f.read())
-    return Recorder(KM.Model(), parameters, run, folder), folder
+    return stage(KM.Model(), parameters, run, folder), folder
 
 
 def write_record(run, s):
