@@ -169,31 +169,16 @@ def lever_shares(choice: str, young_1: float | None = None, young_2: float | Non
     return young_2 / (young_1 + young_2), young_1 / (young_1 + young_2)
 
 
-def lever_arm(choice: str) -> tuple[float, float | None]:
-    """(b, s) of the arm L = b R - s delta [-] (`ARMS`): the one place a choice is validated.
-
-    Parameters
-    ----------
-    choice : str
-        One of `LEVERS`.
-
-    Returns
-    -------
-    tuple
-        (b, s): b 1 or 0; s 0, 0.5, 1, or None for the modulus-weighted arm (a share per sphere).
-
-    Raises
-    ------
-    ValueError
-        For a choice not in `LEVERS`.
-    """
+def _arm(choice: str) -> tuple[float, float | None]:
+    """(b, s) of the arm `choice` (`ARMS`), or ValueError naming the arms: the one place a choice of
+    `lever_base` and `lever_share` is validated."""
     if choice not in ARMS:
         raise ValueError(f"a lever arm is one of {LEVERS}, got {choice!r}")
     return ARMS[choice]
 
 
 def lever_share(choice: str) -> float:
-    """The share s of the overlap an arm loses, L = b R - s delta [-] (`lever_arm`).
+    """The share s of the overlap an arm loses, L = b R - s delta [-] (`ARMS`).
 
     Parameters
     ----------
@@ -210,14 +195,14 @@ def lever_share(choice: str) -> float:
     ValueError
         For the modulus-weighted arm (its share is per sphere: `lever_shares`) or an unknown one.
     """
-    s = lever_arm(choice)[1]
+    s = _arm(choice)[1]
     if s is None:  # a share per sphere, from the moduli
         raise ValueError(f"the lever arm {choice!r} has a share per sphere: lever_shares(choice, E_1, E_2)")
     return s
 
 
 def lever_base(choice: str) -> float:
-    """The share b of the radius an arm keeps, L = b R - s delta [-] (`lever_arm`).
+    """The share b of the radius an arm keeps, L = b R - s delta [-] (`ARMS`).
 
     Parameters
     ----------
@@ -234,7 +219,7 @@ def lever_base(choice: str) -> float:
     ValueError
         For an unknown arm.
     """
-    return lever_arm(choice)[0]
+    return _arm(choice)[0]
 
 
 def stiffness(form: TangentialForm, k_t0: float, a: float) -> float:
