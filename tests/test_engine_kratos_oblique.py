@@ -31,11 +31,9 @@ from analysis.oblique import speed_scale
 from contact_model import load_case
 from contact_model.effective import effective_shear_modulus
 from contact_model.tangential_models import form_of
-from engine_cases import require_engine
-from engines.builds import load_builds
 from engines.kratos_oblique import run_kratos_oblique
 from engines.oblique_plan import oblique_plan
-from oblique_gate import TOLERANCE, gate, ladders
+from oblique_gate import TOLERANCE, config_build, gate, ladders
 from records.dump_file import read_dump
 from reference import solve_oblique
 
@@ -52,15 +50,9 @@ IMPACTS = ((TEST4, 10.0), (TEST4, 60.0), (TEST8, 10.0))
 SEEN_MU = {"omega_after", "vt_after", "e_t", "rebound_angle", "Ft_max"}
 
 
-def build():
-    b = next(b for b in load_builds(CONFIG["builds"], ROOT) if b.id == "kratos-10.4")
-    require_engine(b.executable, "kratos")
-    return b
-
-
 @pytest.fixture(scope="module")
 def study(tmp_path_factory, runs_engine):
-    b = build()
+    b = config_build("kratos-10.4", "kratos")
     runs = ladders(b, MODEL, IMPACTS, LADDER)  # every rung on one rank
     every = [r for rs in runs.values() for r in rs]
     sweep = run_kratos_oblique(every, tmp_path_factory.mktemp("kratos"), b.executable).raise_first()

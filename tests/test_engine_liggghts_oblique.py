@@ -23,11 +23,9 @@ import yaml
 
 from analysis.oblique import processor_boundary_checks, rung_rows
 from contact_model import load_case
-from engine_cases import require_engine
-from engines.builds import load_builds
 from engines.liggghts_oblique import contact_variables, run_liggghts_oblique
 from engines.oblique_plan import ObliquePlan, oblique_plan
-from oblique_gate import TOLERANCE, gate, ladders
+from oblique_gate import TOLERANCE, config_build, gate, ladders
 from records.dump_file import read_dump
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,15 +45,9 @@ SEEN_KT = {"omega_after", "vt_after", "e_t", "rebound_angle"}
 SEEN_MU = {"omega_after", "vt_after", "e_t", "rebound_angle", "Ft_max"}
 
 
-def build():
-    b = next(b for b in load_builds(CONFIG["builds"], ROOT) if b.id == "liggghts-3.8")
-    require_engine(b.executable, "liggghts")
-    return b
-
-
 @pytest.fixture(scope="module")
 def study(tmp_path_factory, runs_engine):
-    b = build()
+    b = config_build("liggghts-3.8", "liggghts")
     runs = ladders(b, MODEL, IMPACTS, LADDER, ranks=(1, 2))  # every rung on one rank, the coarsest on two
     every = [r for rs in runs.values() for r in rs]
     sweep = run_liggghts_oblique(every, tmp_path_factory.mktemp("liggghts"), b.executable).raise_first()
