@@ -5,6 +5,8 @@ place for what every oblique engine test did alike, so that a test's checks are 
 - `config_build`: a build of config/config.yaml, skipped (CI: failed) where its engine is missing;
 - `gate`: a ladder's rungs -> its dt -> 0 limits -> the checks at config ``oblique.tolerance``, with
   the ladder as the plan (a run that did not land is a FAIL of its ladder, not a missing row);
+- `named_failures`: what FAILs and what PASSes, every FAIL asserted to name its build, model and
+  the tolerance it exceeds (the 1e-4-off decks' tests);
 - `ladders`: the plan's ladders of one model per (case, contact-point incidence), as
   `engines.oblique_plan` makes them for the study;
 - `LAMMPS_BUILDS`, `lammps_executable`: the two LAMMPS builds the oblique LAMMPS tests run, and the
@@ -78,6 +80,38 @@ def gate(runs, sweep, known_defects=(), tolerance=TOLERANCE):
     checks = oblique_checks(limit_rows(rungs), tolerance, planned=plan, failures=sweep.failures,
                             known_defects=known_defects)
     return checks, rungs
+
+
+def named_failures(checks, build: str, model: str, tolerance=TOLERANCE) -> tuple[set, set]:
+    """The quantities that FAIL and those that PASS in `checks`, once every FAIL is shown to name its
+    build, its model and the tolerance (``> <tolerance>`` in its detail), and to exceed it:
+    |error| + resolution > tolerance.
+
+    Parameters
+    ----------
+    checks : pandas.DataFrame
+        `gate`'s checks of one ladder.
+    build, model : str
+        The build id and tangential model every FAIL must name.
+    tolerance : float
+        The gate's tolerance (dimensionless; config's by default).
+
+    Returns
+    -------
+    tuple of set
+        (failed, passed): the quantities of the FAIL and of the PASS rows.
+
+    Raises
+    ------
+    AssertionError
+        Naming the FAIL row that does not name them or does not exceed the tolerance.
+    """
+    for r in checks[checks.status == "FAIL"].itertuples():
+        if not (r.build == build and r.model == model and f"> {tolerance:g}" in r.detail):
+            raise AssertionError(f"a FAIL that does not name {build}, {model} and > {tolerance:g}: {r}")
+        if not abs(r.error) + r.resolution > tolerance:
+            raise AssertionError(f"a FAIL within the tolerance {tolerance:g}: {r}")
+    return set(checks[checks.status == "FAIL"].quantity), set(checks[checks.status == "PASS"].quantity)
 
 
 def ladders(b, model: str, impacts, factors, ranks=(1,)) -> dict:
