@@ -55,7 +55,7 @@ from .driven_sweep import collect_sweep, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import EngineRunFailed, require_executable
 from .esys import EXECUTABLE, MPIRUN, WALL_MASS_RATIO, mpirun_command
-from .oblique_record import read_oblique_record
+from .oblique_record import deck_record, read_oblique_record
 from .oblique_run import ObliqueJob, ObliqueRun
 
 DECK = Path(__file__).resolve().parents[1] / "cases" / "decks" / "esys" / "oblique_hertz_mindlin.py"
@@ -364,12 +364,7 @@ def _study_dump(engine, job: ObliqueJob, entry, st, raw: Path, workdir: Path, lo
     """A landed run's dump: the deck's state rows -> the 8 columns (`study_columns`), checked as every
     oblique record is (`engines.oblique_record.read_oblique_record`), under the run's metadata."""
     run = job.run
-    if not st["ok"]:
-        raise EngineRunFailed(run.name, f"{engine}: {st['error']}", log)
-    try:
-        data = np.loadtxt(raw, delimiter=",", skiprows=1, ndmin=2)
-    except (OSError, ValueError) as err:
-        raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
+    data = deck_record(engine, run, st, raw, log)
     if data.shape[0] < 4 or data.shape[1] != len(COLUMNS):
         raise EngineRunFailed(run.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} columns, "
                               f"not {len(COLUMNS)}", log)

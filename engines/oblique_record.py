@@ -1,6 +1,7 @@
-"""The record an oblique deck writes (LAMMPS's and LIGGGHTS's `fix print`): read and checked before
-it becomes a dump, so that a run whose record is unreadable, short, of another width, not finite or
-holding no collision fails, named, instead of writing a dump that looks valid."""
+"""The record an oblique deck writes (LAMMPS's and LIGGGHTS's `fix print`; YADE's and ESyS's
+comma-separated rows, `deck_record`): read and checked before it becomes a dump, so that a run whose
+record is unreadable, short, of another width, not finite or holding no collision fails, named,
+instead of writing a dump that looks valid."""
 
 from __future__ import annotations
 
@@ -14,6 +15,41 @@ from records.text_rows import read_rows
 
 from .errors import EngineRunFailed
 from .oblique_run import ObliqueRun
+
+
+def deck_record(engine: str, run: ObliqueRun, status: dict, raw: Path, log: Path) -> np.ndarray:
+    """The rows of the comma-separated record a Python-driven deck (YADE's, ESyS's) wrote of `run`,
+    once its status says the run landed: the per-run failure bookkeeping of those drivers.
+
+    Parameters
+    ----------
+    engine : str
+        The engine's name, leading the message of a run the deck reports failed.
+    run : ObliqueRun
+        The run (its name is the failure's).
+    status : dict
+        The deck's status of the run: ``{"ok": True, ...}`` or ``{"ok": False, "error": str}``.
+    raw : Path
+        The record: a header line, then one comma-separated row per step (SI).
+    log : Path
+        The engine's log, named in a failure.
+
+    Returns
+    -------
+    numpy.ndarray
+        One row per line of the record (2-D even for one row); its width is the caller's to check.
+
+    Raises
+    ------
+    EngineRunFailed
+        ``"<engine>: <error>"`` where the deck reports the run failed; the record cannot be read.
+    """
+    if not status["ok"]:
+        raise EngineRunFailed(run.name, f"{engine}: {status['error']}", log)
+    try:
+        return np.loadtxt(raw, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, ValueError) as err:
+        raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
 
 
 def read_oblique_record(raw: Path, run: ObliqueRun, log: Path, first_row=None) -> np.ndarray:

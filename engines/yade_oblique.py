@@ -24,6 +24,7 @@ from .driven_sweep import collect_sweep, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import EngineRunFailed, require_executable
 from .finish_run import Sweep
+from .oblique_record import deck_record
 from .oblique_run import ObliqueJob, ObliqueRun
 
 EXECUTABLE = "yade"
@@ -69,12 +70,7 @@ def job_entry(spec: ObliqueJob, out: Path, stiffness_scale: float | None = None,
 
 def _oblique_dump(engine, spec: ObliqueJob, entry, st, raw: Path, workdir: Path, log, version, driver: Path) -> Path:
     run = spec.run
-    if not st["ok"]:
-        raise EngineRunFailed(run.name, f"{engine}: {st['error']}", log)
-    try:
-        data = np.loadtxt(raw, delimiter=",", skiprows=1, ndmin=2)
-    except (OSError, ValueError) as err:
-        raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
+    data = deck_record(engine, run, st, raw, log)
     if data.shape[0] < 3 or data.shape[1] != len(OBLIQUE_COLUMNS):
         raise EngineRunFailed(run.name, f"engine record {raw} has {data.shape[0]} rows of {data.shape[1]} columns",
                               log)

@@ -30,10 +30,17 @@ STIFFNESSES = ("mindlin", "linear")
 CAPS = ("total", "elastic")
 CAP_NORMALS = ("total_abs", "total_clipped", "elastic")
 DAMPINGS = ("none", "normal_xt", "stick_only")
-LEVERS = ("R", "R-delta/2", "R-delta", "none", "R-delta*Ej/(Ei+Ej)")
 #: The arm whose share of the overlap is the other body's Young's modulus over the sum (Kratos's pair
 #: contact): each sphere's share differs where the moduli do (`lever_shares`).
 MODULUS_WEIGHTED = "R-delta*Ej/(Ei+Ej)"
+#: The lever arms, L = b R - s delta: choice -> (b, the share of the radius it keeps; s, the share of
+#: the overlap it loses) [-]. b is 1 or exactly 0, so that b R = R bitwise for the arms of R; "none"
+#: (b = s = 0) is no arm: the spins do not enter the slip, or the force applies no torque (ESyS's
+#: HertzMindlin), and dL/dt = -s d(delta)/dt = 0. The modulus-weighted arm's s is per sphere (None
+#: here: `lever_shares`).
+ARMS = {"R": (1.0, 0.0), "R-delta/2": (1.0, 0.5), "R-delta": (1.0, 1.0), "none": (0.0, 0.0),
+        MODULUS_WEIGHTED: (1.0, None)}
+LEVERS = tuple(ARMS)
 
 
 @dataclass(frozen=True)
@@ -162,9 +169,16 @@ def lever_shares(choice: str, young_1: float | None = None, young_2: float | Non
     return young_2 / (young_1 + young_2), young_1 / (young_1 + young_2)
 
 
+def _arm(choice: str) -> tuple[float, float | None]:
+    """(b, s) of the arm `choice` (`ARMS`), or ValueError naming the arms: the one place a choice of
+    `lever_base` and `lever_share` is validated."""
+    if choice not in ARMS:
+        raise ValueError(f"a lever arm is one of {LEVERS}, got {choice!r}")
+    return ARMS[choice]
+
+
 def lever_share(choice: str) -> float:
-    """The share s of the overlap an arm loses, L = b R - s delta [-]: 0, 1/2, 1, or 0 for
-    ``"none"`` (no arm: it loses nothing, and dL/dt = -s d(delta)/dt = 0).
+    """The share s of the overlap an arm loses, L = b R - s delta [-] (`ARMS`).
 
     Parameters
     ----------
@@ -175,29 +189,37 @@ def lever_share(choice: str) -> float:
     -------
     float
         0, 0.5, 1 or 0.
+
+    Raises
+    ------
+    ValueError
+        For the modulus-weighted arm (its share is per sphere: `lever_shares`) or an unknown one.
     """
-    if choice == MODULUS_WEIGHTED:  # a share per sphere, from the moduli
+    s = _arm(choice)[1]
+    if s is None:  # a share per sphere, from the moduli
         raise ValueError(f"the lever arm {choice!r} has a share per sphere: lever_shares(choice, E_1, E_2)")
-    return {"R": 0.0, "R-delta/2": 0.5, "R-delta": 1.0, "none": 0.0}[choice]
+    return s
 
 
 def lever_base(choice: str) -> float:
-    """The share b of the radius an arm keeps, L = b R - s delta [-]: 1, or 0 for ``"none"`` (the
-    spins do not enter the slip, or the force applies no torque: ESyS's HertzMindlin).
+    """The share b of the radius an arm keeps, L = b R - s delta [-] (`ARMS`).
 
     Parameters
     ----------
     choice : str
-        ``"R"``, ``"R-delta/2"``, ``"R-delta"`` or ``"none"``.
+        One of `LEVERS`.
 
     Returns
     -------
     float
-        1 or 0 (exactly: b R = R bitwise for the arms of R).
+        1, or 0 for ``"none"``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown arm.
     """
-    if choice not in LEVERS:
-        raise ValueError(f"a lever arm is one of {LEVERS}, got {choice!r}")
-    return 0.0 if choice == "none" else 1.0
+    return _arm(choice)[0]
 
 
 def stiffness(form: TangentialForm, k_t0: float, a: float) -> float:

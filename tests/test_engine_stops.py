@@ -8,6 +8,7 @@ engine hang or crash in the second of three runs."""
 
 import dataclasses
 import math
+import re
 import shutil
 import stat
 import time
@@ -170,10 +171,14 @@ def driver_stopping_in(module, tmp_path: Path, run: str, how: str) -> Path:
     hang or to crash (SIGSEGV of its process) when `run` starts."""
     stop = "time.sleep(1000)" if how == "hang" else "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)"
     text = module.DRIVER.read_text()
-    anchor = '    print("RUN %s" % run["name"], flush=True)\n'
-    assert anchor in text
+    # The line that starts a run, at the sweep loop's indent (module level in the YADE and ESyS decks, in
+    # a function in Kratos's, which oblique.py shares): the stop goes right after it, at that indent.
+    anchors = re.findall(r'^( *)(print\("RUN %s" % run\["name"\], flush=True\)\n)', text, re.M)
+    assert len(anchors) == 1, anchors
+    indent, line = anchors[0]
     driver = tmp_path / "collisions.py"
-    driver.write_text(text.replace(anchor, anchor + f'    if run["name"] == {run!r}:\n        {stop}\n'))
+    driver.write_text(text.replace(indent + line, indent + line + f'{indent}if run["name"] == {run!r}:\n'
+                                                                f'{indent}    {stop}\n'))
     return driver
 
 

@@ -60,6 +60,7 @@ from engines.lammps_oblique import run_lammps_oblique
 from engines.oblique_plan import oblique_plan
 from engines.oblique_run import ObliqueRun
 from engines.script_engine import number, version_line
+from oblique_gate import gate
 from records.dump_file import read_dump
 from records.oblique_metrics import oblique_metrics_of_dump
 from reference import solve_oblique
@@ -229,26 +230,20 @@ def test_damped_classic_wall_in_the_gate_is_a_known_defect_never_a_pass(tmp_path
     a ladder T_e/1000 ... /4000: undeclared, e_t and omega_after FAIL; with the config's declaration
     (max_error 0.5) they read KNOWN DEFECT, none FAIL and none PASS of them; declared smaller (0.1) than
     e_t's 0.47, e_t FAILs "beyond the known defect's declared size"."""
-    from analysis.oblique import limit_rows, oblique_checks, rung_rows
-    from engines.oblique_plan import ObliquePlan
-
     exe = lammps("lammps-2025")
     plan = oblique_plan([load_case(DAMPED)], "lammps", "lammps-2025", version_line(exe, "lammps", "LAMMPS"),
                         (1000, 2000, 4000))
     ladder = [r for r in plan.runs if r.model == "lammps:hertz/history" and abs(r.angle - 10.0) < 1e-9]
     sweep = run_lammps_oblique(ladder, tmp_path, exe).raise_first()
-    tolerance = float(CONFIG["oblique"]["tolerance"])
 
-    def gate(declared):
-        limits = limit_rows(rung_rows(ladder, sweep, declared))
-        checks = oblique_checks(limits, tolerance, planned=ObliquePlan(runs=ladder, build="lammps-2025"),
-                                failures=sweep.failures, known_defects=declared)
+    def checks_of(declared):
+        checks, _ = gate(ladder, sweep, declared)
         return checks.set_index("quantity")
 
     declared = [d for d in CONFIG["oblique"]["known_defects"]
                 if d["build"] == "lammps-2025" and d["model"] == "lammps:hertz/history"]
-    plain, known = gate(()), gate(declared)
-    smaller = gate([{**declared[0], "max_error": 0.1}])
+    plain, known = checks_of(()), checks_of(declared)
+    smaller = checks_of([{**declared[0], "max_error": 0.1}])
     print(f"\n(d) gate, 22 Jul 2025, 10 deg: e_t limit error {known.loc['e_t', 'error']:.3g}, omega_after "
           f"{known.loc['omega_after', 'error']:.3g}; statuses {dict(known.status)}")
     assert {"e_t", "omega_after", "vt_after", "Ft_max"} <= set(plain.index[plain.status == "FAIL"])

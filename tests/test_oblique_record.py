@@ -1,6 +1,7 @@
 """An oblique deck's record (LAMMPS's, LIGGGHTS's) that cannot become a dump fails its run, named
 (`engines.oblique_record.read_oblique_record`): unreadable, too short, of another width, not finite,
-or holding no collision. Each message names the run and what is wrong; nothing is returned."""
+or holding no collision; a Python deck's (YADE's, ESyS's: `deck_record`) reported failed by its
+status, or unreadable. Each message names the run and what is wrong; nothing is returned."""
 
 from pathlib import Path
 
@@ -9,7 +10,7 @@ import pytest
 from contact_model import load_case
 from engines.errors import EngineRunFailed
 from engines.oblique_plan import oblique_plan
-from engines.oblique_record import read_oblique_record
+from engines.oblique_record import deck_record, read_oblique_record
 
 ROOT = Path(__file__).resolve().parents[1]
 TEST4 = load_case(ROOT / "cases" / "oblique" / "chung_ooi_test4.yaml")
@@ -44,3 +45,29 @@ def test_a_record_that_cannot_become_a_dump_fails_its_run_named(run, tmp_path, t
 def test_a_missing_record_fails_its_run_named(run, tmp_path):
     with pytest.raises(EngineRunFailed, match="unreadable engine record"):
         read_oblique_record(tmp_path / "none.txt", run, tmp_path / "log.lammps")
+
+
+@pytest.mark.parametrize("status, text, words", [
+    ({"ok": False, "error": "RuntimeError: the deck runs the elastic normal law only"}, None,
+     "YADE: RuntimeError: the deck runs the elastic normal law only"),  # the deck's own failure, first
+    ({"ok": True}, "x1,y1\n1,two\n", "unreadable engine record"),
+    ({"ok": True}, None, "unreadable engine record"),  # the deck said ok, and wrote nothing
+], ids=["deck-failed", "unreadable", "missing"])
+def test_a_python_deck_s_failed_or_unreadable_run_fails_named(run, tmp_path, status, text, words):
+    """YADE's and ESyS's decks (`engines.oblique_record.deck_record`): a run their status reports failed
+    fails with the engine's name and the deck's error, before the record is read; a record that cannot
+    be read fails naming it."""
+    raw = tmp_path / "record.csv"
+    if text is not None:
+        raw.write_text(text)
+    with pytest.raises(EngineRunFailed) as failed:
+        deck_record("YADE", run, status, raw, tmp_path / "log.yade")
+    assert words in str(failed.value) and run.name in str(failed.value), str(failed.value)
+
+
+def test_a_python_deck_s_landed_record_is_its_rows(run, tmp_path):
+    """One row stays a row (2-D), the header is skipped, the numbers are read to the bit (%.17g)."""
+    raw = tmp_path / "record.csv"
+    raw.write_text("a,b,c\n%.17g,%.17g,%.17g\n" % (0.1, -2.5e-3, 1.0 / 3.0))
+    data = deck_record("ESyS-Particle", run, {"ok": True, "seconds": 0.1}, raw, tmp_path / "log")
+    assert data.shape == (1, 3) and data.tolist() == [[0.1, -2.5e-3, 1.0 / 3.0]]

@@ -22,7 +22,7 @@ from scipy.integrate import solve_ivp
 
 from reference import TangentialForm, solve_oblique
 from reference.oblique_engine_map import oblique_map
-from reference.tangential_forms import lever, lever_base, lever_share
+from reference.tangential_forms import MODULUS_WEIGHTED, lever, lever_base, lever_share, lever_shares
 
 pytestmark = pytest.mark.unit
 
@@ -158,12 +158,18 @@ def test_the_discrete_map_keeps_the_spin_and_converges_to_the_reference():
 
 def test_the_arm_none_and_its_validators():
     """lever("none") is 0 at any overlap (b = 0, s = 0); "R" keeps R bitwise (b = 1); an unknown arm is
-    refused naming the field and the choices."""
+    refused naming the field and the choices, by lever_base and lever_share alike (one table); the
+    modulus-weighted arm keeps R (b = 1) and its share is per sphere, E_j/(E_i + E_j) (1 and 3 Pa:
+    3/4 and 1/4), never one share."""
     assert lever("none", R, 1e-6) == 0.0 and lever_base("none") == 0.0 and lever_share("none") == 0.0
     assert lever("R", R, 1e-6) == R and lever("R-delta/2", R, 2e-6) == R - 1e-6 and lever_base("R") == 1.0
     assert ESYS.lever_slip == ESYS.lever_torque == "none"
     with pytest.raises(ValueError, match=r"TangentialForm.lever_torque must be one of .*'none'.*got 'no torque'"):
         TangentialForm(lever_torque="no torque")
-    with pytest.raises(ValueError, match="a lever arm is one of"):
-        lever_base("R/2")
+    for of in (lever_base, lever_share):  # one table validates both halves of the arm
+        with pytest.raises(ValueError, match=r"a lever arm is one of \('R', .*got 'R/2'"):
+            of("R/2")
+    with pytest.raises(ValueError, match="has a share per sphere: lever_shares"):
+        lever_share(MODULUS_WEIGHTED)
+    assert lever_base(MODULUS_WEIGHTED) == 1.0 and lever_shares(MODULUS_WEIGHTED, 1.0, 3.0) == (0.75, 0.25)
     assert np.isfinite(solve_oblique(**plane(10.0)).e_t)

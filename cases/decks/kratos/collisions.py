@@ -322,19 +322,20 @@ def simulate(run):
     shutil.rmtree(folder)
 
 
-def make_stage(run):
-    """(the run's Recorder, the folder of its Kratos inputs)."""
+def make_stage(run, parameters_of=project_parameters, materials_of=materials, model_of=write_model, stage=Recorder):
+    """(the run's Recorder, the folder of its Kratos inputs). oblique.py passes its own writers of the
+    project parameters, materials and model parts, and its Recorder: the same folder, files and order."""
     folder = run["out"] + ".d"
     shutil.rmtree(folder, ignore_errors=True)
     os.makedirs(folder)
     with open(os.path.join(folder, "ProjectParametersDEM.json"), "w") as f:
-        json.dump(project_parameters(run), f, indent=1)
+        json.dump(parameters_of(run), f, indent=1)
     with open(os.path.join(folder, "MaterialsDEM.json"), "w") as f:
-        json.dump(materials(run), f, indent=1)
-    write_model(run, folder)
+        json.dump(materials_of(run), f, indent=1)
+    model_of(run, folder)
     with open(os.path.join(folder, "ProjectParametersDEM.json")) as f:
         parameters = KM.Parameters(f.read())
-    return Recorder(KM.Model(), parameters, run, folder), folder
+    return stage(KM.Model(), parameters, run, folder), folder
 
 
 def write_record(run, s):
@@ -357,20 +358,27 @@ def version():
         KM.Kernel.Version().replace('"', ""))  # the kernel says 10.4."4"--0-Release-x86_64
 
 
+def sweep(job, simulate_run):
+    """Every run of the job through simulate_run(run), in order, then <status> (JSON): the build line and
+    per run {"ok": True, "seconds"} or {"ok": False, "error"}. This deck's sweep and oblique.py's (which
+    runs this file up to SWEEP_MARKER and passes its oblique simulate)."""
+    # Kratos prints a page per run at INFO; warnings and errors are what the log needs.
+    KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
+    status = {"engine_version": version(), "runs": {}}
+    # The log (stdout) tells the host the build and the run in progress if Kratos hangs or crashes.
+    print(status["engine_version"], flush=True)
+    for run in job["runs"]:
+        print("RUN %s" % run["name"], flush=True)
+        started = time.time()
+        try:
+            simulate_run(run)
+            status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
+        except Exception as err:  # report per run; the host fails that run with this log
+            status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
+            print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
+    with open(job["status"], "w") as f:
+        json.dump(status, f, indent=1)
+
+
 # The sweep (benchmarks/engine_overheads.py runs this file up to this line, for its functions).
-# Kratos prints a page per run at INFO; warnings and errors are what the log needs.
-KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
-status = {"engine_version": version(), "runs": {}}
-# The log (stdout) tells the host the build and the run in progress if Kratos hangs or crashes.
-print(status["engine_version"], flush=True)
-for run in JOB["runs"]:
-    print("RUN %s" % run["name"], flush=True)
-    started = time.time()
-    try:
-        simulate(run)
-        status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
-    except Exception as err:  # report per run; the host fails that run with this log
-        status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
-        print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
-with open(JOB["status"], "w") as f:
-    json.dump(status, f, indent=1)
+sweep(JOB, simulate)

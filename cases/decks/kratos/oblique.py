@@ -6,8 +6,10 @@
 # Runs under the Kratos venv's Python: KratosMultiphysics, its DEMApplication and the standard library.
 # The head-on driver collisions.py (beside this file) is run up to its sweep (the line of SWEEP_MARKER,
 # as benchmarks/engine_overheads.py runs it) for its functions: the inputs it writes (project parameters,
-# model parts), its Recorder (a DEMAnalysisStage that records after every solution step) and its build
-# line. This file changes what an oblique run needs and nothing else:
+# model parts), its Recorder (a DEMAnalysisStage that records after every solution step), the stage it
+# makes of a run's inputs (make_stage, given this file's writers and Recorder), its build line and its
+# sweep (the runs in turn, a failure reported per run, the status file). This file changes what an
+# oblique run needs and nothing else:
 #
 # - rotation on (RotationOption, Kratos's default rotational scheme "Direct_Integration", i.e. the
 #   translational Symplectic_Euler: w_{n+1} = w_n + M_n dt / I, I = (2/5) m R^2 for a sphere);
@@ -27,12 +29,10 @@
 # gives the full-step velocities v(t_n) = v(t_n + dt/2) - F_n dt / (2 m) (and w likewise with M_n / I).
 # Two spheres: the overlap is R1 + R2 - |x2 - x1| (3-D), the velocities and forces are the lab frame's
 # x and y components (the line of centres turns during the contact, as the reference's does).
-import json
 import math
 import os
 import shutil
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SWEEP_MARKER = "# The sweep (benchmarks/engine_overheads.py runs this file up to this line"
@@ -151,17 +151,8 @@ def write_oblique_record(run, s, masses, inertia):
 
 
 def simulate_oblique(run):
-    folder = run["out"] + ".d"
-    shutil.rmtree(folder, ignore_errors=True)
-    os.makedirs(folder)
-    with open(os.path.join(folder, "ProjectParametersDEM.json"), "w") as f:
-        json.dump(oblique_parameters(run), f, indent=1)
-    with open(os.path.join(folder, "MaterialsDEM.json"), "w") as f:
-        json.dump(oblique_materials(run), f, indent=1)
-    write_oblique_model(run, folder)
-    with open(os.path.join(folder, "ProjectParametersDEM.json")) as f:
-        parameters = KM_.Parameters(f.read())
-    stage = ObliqueRecorder(KM_.Model(), parameters, run, folder)
+    stage, folder = make_stage(run, oblique_parameters, oblique_materials, write_oblique_model,  # noqa: F821
+                               ObliqueRecorder)
     stage.Run()
     nodes = [n for n in (stage.a, stage.b) if n is not None]
     masses = [n.GetSolutionStepValue(KM_.NODAL_MASS) for n in nodes]
@@ -169,18 +160,5 @@ def simulate_oblique(run):
     shutil.rmtree(folder)
 
 
-# The sweep (the head-on deck's, with the oblique run).
-KM_.Logger.GetDefaultOutput().SetSeverity(KM_.Logger.Severity.WARNING)
-status = {"engine_version": version(), "runs": {}}  # noqa: F821
-print(status["engine_version"], flush=True)
-for run in JOB["runs"]:  # noqa: F821
-    print("RUN %s" % run["name"], flush=True)
-    started = time.time()
-    try:
-        simulate_oblique(run)
-        status["runs"][run["name"]] = {"ok": True, "seconds": time.time() - started}
-    except Exception as err:  # report per run; the host fails that run with this log
-        status["runs"][run["name"]] = {"ok": False, "error": "%s: %s" % (type(err).__name__, err)}
-        print("RUN FAILED %s: %s" % (run["name"], err), flush=True)
-with open(JOB["status"], "w") as f:  # noqa: F821
-    json.dump(status, f, indent=1)
+# The sweep: the head-on deck's (collisions.py's sweep), with the oblique run.
+sweep(JOB, simulate_oblique)  # noqa: F821
