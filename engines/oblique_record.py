@@ -47,7 +47,7 @@ def deck_record(engine: str, run: ObliqueRun, status: dict, raw: Path, log: Path
     if not status["ok"]:
         raise EngineRunFailed(run.name, f"{engine}: {status['error']}", log)
     try:
-        return np.loadtxt(raw, delimiter=",", skiprows=1, ndmin=2)
+        return read_rows(raw, delimiter=",", skiprows=1)
     except (OSError, ValueError) as err:
         raise EngineRunFailed(run.name, f"unreadable engine record {raw}: {err}", log)
 
