@@ -62,6 +62,7 @@ import pandas as pd
 
 from contact_model.effective import effective_shear_modulus
 from contact_model.tangential_models import form_of, stiffness_constant
+from engines.codes import CODES
 from engines.ladder import RESOLUTION_FLOOR, extrapolate
 from records.dump_file import DumpError, read_dump
 from records.oblique_metrics import oblique_metrics
@@ -131,7 +132,8 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
     quantities of `records.oblique_metrics` (relative tangential velocity of the centres). Two
     spheres: the planar motion with the turning line of centres, every quantity of the lab frame
     as the dump records it (eps and F_max along x, vt_after and Ft_max along y); the rigid-body
-    values, of a normal that does not turn, are then an approximation (to ~delta/R).
+    values, of a normal that does not turn, are then an approximation (to ~delta/R). A plane that the
+    code represents by a fixed sphere (`engines.codes.Code.oblique_plane_ratio`: ESyS) is that sphere.
 
     Parameters
     ----------
@@ -155,7 +157,14 @@ def reference_of(run, tangential_stiffness: float | None = None) -> dict:
     G_star = effective_shear_modulus(b1, b2)
     v = run.initial_velocities()
     v_n, v_t = run.normal.velocity, run.tangential_velocity
-    r = solve_oblique(geometry=p.geometry, R1=b1.radius, m1=b1.mass, R2=b2.radius, m2=b2.mass, E_star=p.E,
+    geometry = dict(geometry=p.geometry, R2=b2.radius, m2=b2.mass)
+    ratio = CODES[run.normal.engine].oblique_plane_ratio
+    if p.geometry == "sphere-plane" and math.isfinite(ratio):
+        # the code's plane is a fixed sphere of ratio R (ESyS): the planar motion over it, whose line of
+        # centres turns and pulls the sphere in at v_t^2/(R + R_wall); the contact's stiffnesses stay the
+        # plane's (its deck scales E so that E sqrt(R*) is the plane's), hence R* and M* of the plane
+        geometry = dict(geometry="sphere-sphere", R2=ratio * b1.radius, m2=math.inf, I2=math.inf)
+    r = solve_oblique(**geometry, R1=b1.radius, m1=b1.mass, E_star=p.E,
                       G_star=G_star, R_star=p.R, M_star=p.M, eta=p.eta, clipped=run.law == "viscoelastic_clipped",
                       mu=run.friction, form=form, v_n=v_n, v_t=v_t, w1=v["w1"],
                       k_t0=tangential_stiffness if form.stiffness == "linear" else stiffness_constant(run.model, p),

@@ -22,6 +22,7 @@ This table is the one registry of engine codes. Adding a code: docs/adding_an_en
 from __future__ import annotations
 
 import importlib
+import math
 import re
 from dataclasses import dataclass, field
 from typing import Callable
@@ -65,6 +66,12 @@ class EngineCode:
         called as `driver`), '' where the study does not yet run the code's tangential models.
     oblique_unavailable : dict
         {normal law: reason} for the normal laws its oblique runs cannot have.
+    oblique_plane_ratio : float
+        R_wall / R of the fixed sphere that stands in for the plane in its oblique runs (ESyS has
+        no Hertzian wall), ``math.inf`` for a true plane. The reference then follows the stand-in's
+        curvature (`analysis.oblique.reference_of`): a sphere sliding over it at v_t is pulled
+        towards it at v_t^2 / (R + R_wall), which at R_wall = 1e6 R is 2.5e-6 of eps at grazing
+        incidence (Chung & Ooi's test 5 at 85 deg).
     decks : tuple of str
         Glob patterns (relative to the project) of the files its runs read.
     cost : EngineCost
@@ -113,6 +120,7 @@ class EngineCode:
     native: dict[str, tuple[tuple[int, int], str]] = field(default_factory=dict)
     oblique_driver: str = ""
     oblique_unavailable: dict[str, str] = field(default_factory=dict)
+    oblique_plane_ratio: float = math.inf
     #: {variable: default}: what its executables need in their environment (OpenFOAM's
     #: WM_PROJECT_DIR, where its etc/ is), each the caller's own value where it has one.
     environment: dict[str, str] = field(default_factory=dict)
@@ -256,6 +264,7 @@ CODES: dict[str, EngineCode] = {c.name: c for c in (
         oblique_unavailable={law: "ESyS's HertzMindlin (the oblique deck's interaction) has no normal damping: "
                                   "oblique runs are elastic only (engines/esys_oblique.py)"
                              for law in ("viscoelastic", "viscoelastic_clipped")},
+        oblique_plane_ratio=1e6,  # the oblique deck's stand-in sphere (engines/esys_oblique.py)
         default_law="`HertzMindlinViscoPrms` with its restitution coefficient",
         processes=2,  # mpirun -np 2: a master and a worker, both busy during a sweep
         cost=EngineCost(start_s=3.0, per_run_s=0.05, per_step_s=500e-6),

@@ -19,11 +19,13 @@ OBLIQUE_WALL_RATIO R, its E scaled by sqrt(R / R*_esys) (`contact_model.engine_p
 esys_plane_as_sphere`): the normal force 4/3 E sqrt(R*_esys) delta^{3/2} and the tangential stiffness
 (16/3) E/(2(1 + nu)) sqrt(R*_esys delta) are then the plane's, both ~E sqrt(R*), at every overlap. What
 remains of its curvature: while the sphere slides a distance s over it, the line of centres turns by
-s/(R + R_wall) and the overlap gains s^2/(2 (R + R_wall)); for alumina at 60 deg (Chung & Ooi's test 4,
-s ~ 8e-5 m over the contact) that is ~3e-8 rad and ~1.5e-7 of the overlap at a ratio 1e6 (at the head-on
-driver's ratio 1 it would be 1.5e-2 rad). The price: the wall's centre sits at x = R_wall, so ESyS's
-overlap R + R_wall - |x2 - x1| is rounded by ~u R_wall = 2.8e-13 m (u = 2^-53; 3.5e-8 of alumina's
-maximum overlap at 60 deg).
+s/(R + R_wall), and the sphere is pulled towards the stand-in at v_t^2/(R + R_wall). The reference follows
+that geometry (`analysis.oblique.reference_of`, the registry's `oblique_plane_ratio`): it matters at
+grazing incidence, where the pull changes eps by ~ v_t^2 T/(R_wall v_n): 2.4e-6 for Chung & Ooi's test 5
+at 85 deg (R = 10 um, v_t = 57 m/s; measured: eps -2.37e-6 against a flat plane's reference, -6.6e-9
+against the stand-in's). A larger ratio would shrink it, at a price: the wall's centre sits at x = R_wall,
+so ESyS's overlap R + R_wall - |x2 - x1| is rounded by ~u R_wall (u = 2^-53): 5.6e-13 m for alumina
+(R = 2.5 mm), ~5e-7 of its maximum overlap at 85 deg, which is why the ratio stays at 1e6.
 
 The deck's contact (Model/HertzMindlinInteraction.cpp:118-160 in the 2.3.5 source,
 danielfrascarelli/esys-particle@ced39b6), with E the number given to ESyS and R* = R1 R2/(R1 + R2)::
@@ -51,6 +53,7 @@ from contact_model.tangential_models import stiffness_constant
 from records.dump_file import OBLIQUE_COLUMNS, write_dump
 from records.files import file_sha256
 
+from .codes import CODES
 from .driven_sweep import collect_sweep, prepare_sweep
 from .engine_process import DEFAULT_TIMEOUT_FLOOR_S, run_logged, time_limit
 from .errors import EngineRunFailed, require_executable
@@ -244,9 +247,9 @@ def tangential_impulse(rec: dict, run: EsysObliqueRun) -> float:
 
 #: The tangential models ESyS's oblique deck writes.
 MODELS = ("esys:hertz_mindlin",)
-#: R_wall / R of the plane's stand-in sphere in an oblique run (module docstring: its curvature and its
-#: rounding, ~1e-7 of the overlap each at this ratio).
-OBLIQUE_WALL_RATIO = 1e6
+#: R_wall / R of the plane's stand-in sphere in an oblique run (module docstring: its curvature, which the
+#: reference follows, and its rounding), the code registry's one number (`engines.codes`).
+OBLIQUE_WALL_RATIO = CODES["esys"].oblique_plane_ratio
 #: A step of the oblique deck in head-on steps of ESyS's cost table: the state of both bodies (14
 #: numbers) is fetched and formatted each step, where the head-on deck takes two (the time limit counts it).
 STEP_COST = 2

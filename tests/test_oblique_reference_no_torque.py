@@ -173,3 +173,37 @@ def test_the_arm_none_and_its_validators():
         lever_share(MODULUS_WEIGHTED)
     assert lever_base(MODULUS_WEIGHTED) == 1.0 and lever_shares(MODULUS_WEIGHTED, 1.0, 3.0) == (0.75, 0.25)
     assert np.isfinite(solve_oblique(**plane(10.0)).e_t)
+
+
+def test_the_planes_stand_in_sphere_pulls_the_sliding_sphere_in_as_its_curvature_says():
+    """ESyS's plane is a fixed sphere of 1e6 R (`engines.codes`: ``oblique_plane_ratio``), and the reference of
+    its plane runs is that sphere (`analysis.oblique.reference_of`). A sphere sliding over it at v_t is pulled
+    in at v_t^2/(R + R_wall): Chung & Ooi's test 5 at 85 deg (steel, R = 10 um, v_n = 5 m/s, v_t = 57 m/s,
+    mu = 0.3, sliding throughout) loses eps by ~ v_t^2 T / (R_wall v_n), v_t the mean of its values before and
+    after, to 3 % (2.4e-6: what ESyS showed against a flat plane's reference); the shift falls as 1/R_wall
+    (x 1000 larger: 1000 times smaller, to 1 %); and only ESyS's registry entry has a stand-in."""
+    from engines.codes import CODES
+    from engines.esys_oblique import OBLIQUE_WALL_RATIO
+
+    r_s, rho, young, nu, mu, v_n = 1e-5, 7850.0, 208e9, 0.3, 0.3, 5.0
+    e_star = 1.0 / ((1 - nu ** 2) / young + (1 - nu ** 2) / 1e20)
+    mass = rho * 4 / 3 * math.pi * r_s ** 3
+    v_t = v_n * math.tan(math.radians(85.0))
+    g_star = 1.0 / ((2 - nu) * 2 * (1 + nu) / young + (2 - nu) * 2 * (1 + nu) / 1e20)  # unused: k_t0 is given
+
+    def solved(ratio):
+        stand_in = {} if ratio is None else dict(geometry="sphere-sphere", R2=ratio * r_s, m2=math.inf, I2=math.inf)
+        args = dict(geometry="sphere-plane", R1=r_s, m1=mass, R2=math.inf, m2=math.inf, E_star=e_star,
+                    G_star=g_star, R_star=r_s, M_star=mass, eta=0.0, clipped=False, mu=mu, form=ESYS,
+                    v_n=v_n, v_t=v_t, k_t0=16.0 / 3.0 * e_star / (2.0 * (1.0 + nu)))
+        return solve_oblique(**{**args, **stand_in})
+
+    flat, stand_in, farther = solved(None), solved(1e6), solved(1e9)
+    assert [p[0] for p in flat.phases] == ["slip"]
+    mean_vt = 0.5 * (v_t + flat.vt_after)
+    estimate = mean_vt ** 2 * flat.T / (1e6 * r_s * v_n)
+    assert 2.3e-6 < estimate < 2.5e-6
+    assert (stand_in.eps - flat.eps) == pytest.approx(-estimate, rel=0.03)
+    assert (farther.eps - flat.eps) == pytest.approx((stand_in.eps - flat.eps) / 1000, rel=0.01)
+    assert OBLIQUE_WALL_RATIO == CODES["esys"].oblique_plane_ratio == 1e6
+    assert all(math.isinf(c.oblique_plane_ratio) for name, c in CODES.items() if name != "esys")
