@@ -11,9 +11,10 @@ of the case's list, 5 deg included, where (k_t0/(2 E*)) tan(theta) > mu); test 8
 and 0.5 m, 1000 times the density and stiffness, mu = 0.4, v_n = 0.2 m/s) with a tangential velocity of
 the centres at 10 deg and no spin (sticks, then slides; the case's own impacts are spins alone, which
 HertzMindlin's slip never sees); test 5 at 85 deg (R = 10 um sliding at 57 m/s), where the plane's stand-in
-sphere (1e6 R) pulls the sphere in enough to move eps by 2.4e-6, which the reference follows. The ladder is the study's four coarsest rungs (T_e/1000 ... /8000; at 3
-deg its five and /32000); the file takes ~2 min here (measured: 113 s at load 10 on the 2 cores, 80 s of
-it the three ladders; ESyS's MPI round trip per step).
+sphere (1e6 R) pulls the sphere in enough to move eps by 2.4e-6, which the reference follows. The ladder is
+the study's four coarsest rungs (T_e/1000 ... /8000; at 3 deg its five and /32000); the file took 113 s at
+load 10 on the 2 cores, 80 s of it the three ladders (ESyS's MPI round trip per step), 19 s on a quiet
+machine with the fourth.
 
 Measured (docs/tangential.md): every check passes, |error| + resolution <= 3e-7 on the plane, <= 8.1e-7
 between the spheres (e_t at 10 deg); mu x (1 + 1e-4) moves v_t', e_t, the rebound angle and F_t,max by
